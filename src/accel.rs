@@ -1,0 +1,98 @@
+//! Bounding volume hierarchy over anything with bounds.
+//!
+//! A thin layer over `obvhs`' compressed 8-wide BVH (Ylitie et al., "Efficient Incoherent Ray
+//! Traversal on GPUs Through Compressed Wide BVHs", 2017), chosen by measurement: the fastest
+//! pure-Rust BVH on this kind of machine (../shared/design/crates.md). It knows only boxes and
+//! primitive indices; what a primitive is stays with the caller's intersection closure.
+
+use crate::geometry::Bounds;
+use crate::math::{Ray, Vec3};
+use glam::Vec3A;
+use obvhs::{BvhBuildParams, aabb::Aabb, cwbvh::CwBvh, ray::RayHit};
+use std::time::Duration;
+
+/// A built BVH. Primitive ids seen by the intersection closures are positions in
+/// [`Bvh::order`], so the caller stores its primitives in that order.
+pub struct Bvh {
+    inner: CwBvh,
+    empty: bool,
+}
+
+struct Boxed(Aabb);
+
+impl obvhs::Boundable for Boxed {
+    fn aabb(&self) -> Aabb {
+        self.0
+    }
+}
+
+fn to_aabb(b: &Bounds) -> Aabb {
+    Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max))
+}
+
+impl Bvh {
+    /// Build over the given boxes. Returns the BVH and the permutation: position `i` of the
+    /// BVH's primitive order holds input primitive `order[i]`.
+    pub fn build(bounds: &[Bounds]) -> (Self, Vec<u32>) {
+        if bounds.is_empty() {
+            let bvh = Self {
+                inner: CwBvh::default(),
+                empty: true,
+            };
+            return (bvh, Vec::new());
+        }
+        let boxes: Vec<Boxed> = bounds.iter().map(|b| Boxed(to_aabb(b))).collect();
+        let mut build_time = Duration::ZERO;
+        let inner = obvhs::cwbvh::builder::build_cwbvh(&boxes, BvhBuildParams::medium_build(), &mut build_time);
+        let order = inner.primitive_indices.clone();
+        (Self { inner, empty: false }, order)
+    }
+
+    fn to_obvhs(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
+        obvhs::ray::Ray::new(Vec3A::from(ray.origin), Vec3A::from(ray.dir), 0.0, t_max)
+    }
+
+    /// Closest hit: `intersect(id, t_max)` returns the hit distance of primitive `id` below
+    /// `t_max`, or infinity. Returns the id and distance of the nearest hit.
+    #[inline]
+    pub fn closest_hit<F>(&self, ray: &Ray, t_max: f32, mut intersect: F) -> Option<(u32, f32)>
+    where
+        F: FnMut(u32, f32) -> f32,
+    {
+        if self.empty {
+            return None;
+        }
+        let mut hit = RayHit::none();
+        let r = Self::to_obvhs(ray, t_max);
+        self.inner
+            .ray_traverse(r, &mut hit, |r, id| intersect(id as u32, r.tmax))
+            .then_some((hit.primitive_id, hit.t))
+    }
+
+    /// Whether any primitive is hit closer than `t_max`.
+    #[inline]
+    pub fn any_hit<F>(&self, ray: &Ray, t_max: f32, mut intersect: F) -> bool
+    where
+        F: FnMut(u32, f32) -> f32,
+    {
+        if self.empty {
+            return false;
+        }
+        let r = Self::to_obvhs(ray, t_max);
+        !self.inner.ray_traverse_miss(r, |r, id| intersect(id as u32, r.tmax))
+    }
+
+    /// Number of nodes, for statistics.
+    pub fn node_count(&self) -> usize {
+        self.inner.nodes.len()
+    }
+
+    /// Bounds of everything in the BVH.
+    pub fn bounds(&self) -> Bounds {
+        let b = self.inner.total_aabb;
+        Bounds {
+            min: Vec3::from(b.min),
+            max: Vec3::from(b.max),
+        }
+    }
+}

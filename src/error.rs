@@ -1,0 +1,39 @@
+//! Typed errors of the library. The binary turns them into messages and exit code 2.
+
+use std::path::PathBuf;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("unknown scene '{name}'; the built-in scenes are: {available}")]
+    UnknownScene { name: String, available: String },
+
+    #[error("invalid scene: {0}")]
+    InvalidScene(String),
+
+    #[error("invalid setting: {0}")]
+    InvalidSetting(String),
+
+    #[error("cannot write '{path}': {source}")]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+
+    #[error("cannot read '{path}': {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+
+    #[error("'{path}': unsupported image format '{extension}' (expected one of: {expected})")]
+    UnsupportedImageFormat {
+        path: PathBuf,
+        extension: String,
+        expected: &'static str,
+    },
+
+    #[error("'{path}': {message}")]
+    BadImage { path: PathBuf, message: String },
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,126 @@
+//! Integrators: estimate the radiance arriving along a camera ray.
+//!
+//! The closed set: `direct` (ray-traced direct light, the original "SimpleRT" pass done right)
+//! and `path` (the unidirectional reference every later integrator is tested against).
+
+mod direct;
+mod path;
+
+pub use direct::DirectConfig;
+pub use path::PathConfig;
+
+use crate::light::{Light, LightSample};
+use crate::material::Material;
+use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin, surface_epsilon};
+use crate::sampling::Rng;
+use crate::scene::{Hit, Scene};
+
+/// Counts of rays traced, for the summary line and benchmarks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayStats {
+    pub camera: u64,
+    /// Closest-hit rays after the first hit.
+    pub bounce: u64,
+    pub shadow: u64,
+}
+
+impl RayStats {
+    pub fn total(&self) -> u64 {
+        self.camera + self.bounce + self.shadow
+    }
+
+    pub fn add(&mut self, o: &RayStats) {
+        self.camera += o.camera;
+        self.bounce += o.bounce;
+        self.shadow += o.shadow;
+    }
+}
+
+#[derive(Clone, Debug)]
+pub enum Integrator {
+    Direct(DirectConfig),
+    Path(PathConfig),
+}
+
+impl Integrator {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Integrator::Direct(_) => "direct",
+            Integrator::Path(_) => "path",
+        }
+    }
+
+    /// Radiance arriving at the camera along `ray`.
+    pub fn radiance(&self, scene: &Scene, ray: &Ray, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
+        match self {
+            Integrator::Direct(c) => direct::radiance(c, scene, ray, rng, stats),
+            Integrator::Path(c) => path::radiance(c, scene, ray, rng, stats),
+        }
+    }
+}
+
+/// Everything about a shading point the light-sampling code needs.
+pub(crate) struct ShadingPoint<'a> {
+    pub hit: &'a Hit,
+    pub material: &'a Material,
+    pub frame: Frame,
+    pub wo_local: Vec3,
+}
+
+impl<'a> ShadingPoint<'a> {
+    pub fn new(scene: &'a Scene, hit: &'a Hit, wo: Vec3) -> Self {
+        let material = scene.material(hit.material);
+        let frame = hit.frame(material, wo);
+        Self {
+            hit,
+            material,
+            frame,
+            wo_local: frame.to_local(wo),
+        }
+    }
+}
+
+/// Unoccluded contribution f·L·|cos|/pdf of one light sample, before any MIS weight; zero if
+/// the light is hidden. Also returns the BSDF's density for the same direction (for MIS).
+pub(crate) fn light_sample_contribution(
+    scene: &Scene,
+    sp: &ShadingPoint,
+    ls: &LightSample,
+    stats: &mut RayStats,
+) -> Option<(Rgb, f32)> {
+    let wi_local = sp.frame.to_local(ls.wi);
+    let f = sp.material.eval(sp.wo_local, wi_local);
+    if f == Rgb::ZERO {
+        return None;
+    }
+    let origin = offset_origin(sp.hit.p, sp.hit.ng, ls.wi);
+    let dist = (ls.point - origin).length();
+    let clearance = if ls.is_delta {
+        0.0
+    } else {
+        surface_epsilon(ls.point)
+    };
+    stats.shadow += 1;
+    if scene.occluded(origin, ls.wi, dist - clearance) {
+        return None;
+    }
+    let value = f * ls.radiance * (wi_local.z.abs() / ls.pdf);
+    Some((value, sp.material.pdf(sp.wo_local, wi_local)))
+}
+
+/// Power heuristic with β = 2 (Veach & Guibas 1995).
+pub(crate) fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
+    let a = pdf_a * pdf_a;
+    let b = pdf_b * pdf_b;
+    if a + b == 0.0 { 0.0 } else { a / (a + b) }
+}
+
+/// Solid-angle density with which light sampling (choice by power, then the light's own
+/// sampling) would have produced the direction from `from` to the emitter `hit`.
+pub(crate) fn light_pdf_for_hit(scene: &Scene, from: Vec3, hit: &Hit) -> f32 {
+    let i = hit.light as usize;
+    match &scene.lights()[i] {
+        Light::Area(l) => scene.light_choice_pmf(i) * l.pdf_li(from, hit.p, hit.ng),
+        Light::Point(_) | Light::Spot(_) => 0.0,
+    }
+}

@@ -1,0 +1,105 @@
+//! Unidirectional path tracing with next-event estimation, multiple importance sampling
+//! (Veach & Guibas 1995, power heuristic) and Russian roulette: the ground truth.
+
+use super::{RayStats, ShadingPoint, light_pdf_for_hit, light_sample_contribution, power_heuristic};
+use crate::material::TransportMode;
+use crate::math::{Ray, Rgb, offset_origin};
+use crate::sampling::Rng;
+use crate::scene::{NO_LIGHT, Scene};
+
+#[derive(Clone, Debug)]
+pub struct PathConfig {
+    /// Maximum number of surface interactions on a path.
+    pub max_depth: u32,
+    /// Russian roulette starts after this many bounces.
+    pub rr_depth: u32,
+}
+
+impl Default for PathConfig {
+    fn default() -> Self {
+        Self {
+            max_depth: 256,
+            rr_depth: 4,
+        }
+    }
+}
+
+pub(super) fn radiance(c: &PathConfig, scene: &Scene, camera_ray: &Ray, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
+    let mut l = Rgb::ZERO;
+    let mut beta = Rgb::ONE;
+    let mut ray = *camera_ray;
+    // Density of the BSDF sample that produced `ray`, and whether it was a delta lobe.
+    let mut prev_pdf = 0.0f32;
+    let mut prev_specular = true;
+    let mut prev_point = ray.origin;
+    stats.camera += 1;
+    for depth in 0..c.max_depth {
+        if depth > 0 {
+            stats.bounce += 1;
+        }
+        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
+            break;
+        };
+        let wo = -ray.dir;
+        if hit.light != NO_LIGHT {
+            let le = scene.emitted(&hit, wo);
+            if le != Rgb::ZERO {
+                let w = if prev_specular {
+                    1.0
+                } else {
+                    power_heuristic(prev_pdf, light_pdf_for_hit(scene, prev_point, &hit))
+                };
+                l += beta * le * w;
+            }
+        }
+        let sp = ShadingPoint::new(scene, &hit, wo);
+        if !sp.material.is_specular() {
+            l += beta * next_event(scene, &sp, rng, stats);
+        }
+        let u_lobe = rng.next_f32();
+        let Some(s) = sp.material.sample(sp.wo_local, u_lobe, rng.next_2d(), TransportMode::Radiance) else {
+            break;
+        };
+        beta *= s.weight;
+        if beta == Rgb::ZERO {
+            break;
+        }
+        if depth + 1 >= c.rr_depth {
+            let q = beta.max_element().min(0.95);
+            if rng.next_f32() >= q {
+                break;
+            }
+            beta /= q;
+        }
+        let wi = sp.frame.to_world(s.wi);
+        prev_pdf = s.pdf;
+        prev_specular = s.specular;
+        prev_point = hit.p;
+        ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+    }
+    l
+}
+
+/// One light, chosen by power, sampled once; MIS-weighted against BSDF sampling for area lights.
+fn next_event(scene: &Scene, sp: &ShadingPoint, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
+    let u_choose = rng.next_f32();
+    let u_pick = rng.next_f32();
+    let u = rng.next_2d();
+    let Some((i, pmf, _)) = scene.choose_light(u_choose) else {
+        return Rgb::ZERO;
+    };
+    let light = &scene.lights()[i];
+    let Some(mut ls) = light.sample_li(sp.hit.p, u_pick, u) else {
+        return Rgb::ZERO;
+    };
+    ls.pdf *= pmf;
+    let Some((value, bsdf_pdf)) = light_sample_contribution(scene, sp, &ls, stats) else {
+        return Rgb::ZERO;
+    };
+    if ls.is_delta {
+        value
+    } else {
+        value * power_heuristic(ls.pdf, bsdf_pdf)
+    }
+}
+

@@ -1,0 +1,236 @@
+//! Image files. The format follows the extension: `.png` (sRGB, exposure, clamped), `.exr`
+//! (linear float RGB), `.pfm` (linear float RGB). Every write goes to a temporary file in the
+//! destination folder and is renamed over the target only once complete, so an interrupted or
+//! failed write never destroys what the user had.
+
+use crate::error::{Error, Result};
+use crate::film::Image;
+use crate::math::Rgb;
+use std::fs;
+use std::io::{BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+
+/// Image formats Photon reads and writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Exr,
+    Pfm,
+}
+
+const WRITABLE: &str = ".png, .exr, .pfm";
+const READABLE: &str = ".exr, .pfm";
+
+impl ImageFormat {
+    pub fn from_path(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "png" => Some(Self::Png),
+            "exr" => Some(Self::Exr),
+            "pfm" => Some(Self::Pfm),
+            _ => None,
+        }
+    }
+}
+
+fn unsupported(path: &Path, expected: &'static str) -> Error {
+    Error::UnsupportedImageFormat {
+        path: path.to_owned(),
+        extension: path
+            .extension()
+            .map_or_else(|| "(none)".to_owned(), |e| format!(".{}", e.to_string_lossy())),
+        expected,
+    }
+}
+
+/// Check, before any work is done, that `path` names a format we write and a folder we can
+/// write into. Creates and removes a temporary file to be sure.
+pub fn check_writable(path: &Path) -> Result<ImageFormat> {
+    let format = ImageFormat::from_path(path).ok_or_else(|| unsupported(path, WRITABLE))?;
+    let tmp = temp_path(path);
+    fs::File::create(&tmp).map_err(|source| Error::Write {
+        path: path.to_owned(),
+        source,
+    })?;
+    let _ = fs::remove_file(&tmp);
+    Ok(format)
+}
+
+/// The temporary sibling a file is written to before being renamed into place.
+pub fn temp_path(path: &Path) -> PathBuf {
+    let name = path.file_name().map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
+}
+
+/// Write via a temporary file and rename it over `path`.
+pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let tmp = temp_path(path);
+    let result = write(&tmp).and_then(|()| {
+        fs::rename(&tmp, path).map_err(|source| Error::Write {
+            path: path.to_owned(),
+            source,
+        })
+    });
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
+pub fn linear_to_srgb(x: f32) -> f32 {
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Write `image`; `exposure` (in stops) applies to PNG only, since float formats keep radiance.
+pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
+    let format = ImageFormat::from_path(path).ok_or_else(|| unsupported(path, WRITABLE))?;
+    let io_err = |source| Error::Write {
+        path: path.to_owned(),
+        source,
+    };
+    write_atomically(path, |tmp| match format {
+        ImageFormat::Png => write_png(image, tmp, exposure).map_err(|e| Error::Write {
+            path: path.to_owned(),
+            source: std::io::Error::other(e),
+        }),
+        ImageFormat::Exr => {
+            let w = image.width as usize;
+            exr::prelude::write_rgb_file(tmp, w, image.height as usize, |x, y| {
+                let p = image.pixels[y * w + x];
+                (p.x, p.y, p.z)
+            })
+            .map_err(|e| io_err(std::io::Error::other(e)))
+        }
+        ImageFormat::Pfm => write_pfm(image, tmp).map_err(io_err),
+    })
+}
+
+fn write_png(image: &Image, path: &Path, exposure: f32) -> Result<(), image::ImageError> {
+    let scale = exposure.exp2();
+    let mut bytes = Vec::with_capacity(image.pixels.len() * 3);
+    for p in &image.pixels {
+        for c in p.to_array() {
+            let v = linear_to_srgb((c * scale).clamp(0.0, 1.0));
+            bytes.push((v * 255.0 + 0.5) as u8);
+        }
+    }
+    image::save_buffer_with_format(
+        path,
+        &bytes,
+        image.width,
+        image.height,
+        image::ExtendedColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+}
+
+/// Portable float map: a text header, then rows bottom to top, little-endian (negative scale).
+fn write_pfm(image: &Image, path: &Path) -> std::io::Result<()> {
+    let mut f = BufWriter::new(fs::File::create(path)?);
+    write!(f, "PF\n{} {}\n-1.0\n", image.width, image.height)?;
+    for y in (0..image.height).rev() {
+        for x in 0..image.width {
+            for c in image.get(x, y).to_array() {
+                f.write_all(&c.to_le_bytes())?;
+            }
+        }
+    }
+    f.flush()
+}
+
+/// Read a linear image (OpenEXR or PFM).
+pub fn read_image(path: &Path) -> Result<Image> {
+    let format = ImageFormat::from_path(path).ok_or_else(|| unsupported(path, READABLE))?;
+    if !path.exists() {
+        return Err(Error::Read {
+            path: path.to_owned(),
+            source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
+        });
+    }
+    let bad = |message: String| Error::BadImage {
+        path: path.to_owned(),
+        message,
+    };
+    match format {
+        ImageFormat::Exr => {
+            let img = exr::prelude::read_first_rgba_layer_from_file(
+                path,
+                |res, _| Image::new(res.width() as u32, res.height() as u32),
+                |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                    img.set(pos.x() as u32, pos.y() as u32, Rgb::new(r, g, b));
+                },
+            )
+            .map_err(|e| bad(format!("not a readable OpenEXR image: {e}")))?;
+            Ok(img.layer_data.channel_data.pixels)
+        }
+        ImageFormat::Pfm => {
+            let mut data = Vec::new();
+            fs::File::open(path)
+                .and_then(|mut f| f.read_to_end(&mut data))
+                .map_err(|source| Error::Read {
+                    path: path.to_owned(),
+                    source,
+                })?;
+            parse_pfm(&data).map_err(bad)
+        }
+        ImageFormat::Png => Err(unsupported(path, READABLE)),
+    }
+}
+
+fn parse_pfm(data: &[u8]) -> Result<Image, String> {
+    // Header: three whitespace-separated tokens after the magic, then one whitespace byte.
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while tokens.len() < 4 {
+        while i < data.len() && data[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        let start = i;
+        while i < data.len() && !data[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if start == i {
+            return Err("truncated PFM header".into());
+        }
+        tokens.push(String::from_utf8_lossy(&data[start..i]).into_owned());
+    }
+    i += 1;
+    let channels = match tokens[0].as_str() {
+        "PF" => 3,
+        "Pf" => 1,
+        m => return Err(format!("not a PFM file (magic '{m}', expected 'PF' or 'Pf')")),
+    };
+    let parse = |s: &str, what: &str| s.parse::<u32>().map_err(|_| format!("bad {what} '{s}' in PFM header"));
+    let (w, h) = (parse(&tokens[1], "width")?, parse(&tokens[2], "height")?);
+    let scale: f32 = tokens[3].parse().map_err(|_| format!("bad scale '{}' in PFM header", tokens[3]))?;
+    let needed = (w as usize)
+        .checked_mul(h as usize)
+        .and_then(|n| n.checked_mul(channels * 4))
+        .ok_or("PFM dimensions overflow")?;
+    let body = data.get(i..).unwrap_or_default();
+    if body.len() < needed {
+        return Err(format!("truncated PFM data: {} bytes, expected {needed}", body.len()));
+    }
+    let mut img = Image::new(w, h);
+    let mut k = 0;
+    for y in (0..h).rev() {
+        for x in 0..w {
+            let mut c = [0.0f32; 3];
+            for v in c.iter_mut().take(channels) {
+                let b = [body[k], body[k + 1], body[k + 2], body[k + 3]];
+                *v = if scale < 0.0 { f32::from_le_bytes(b) } else { f32::from_be_bytes(b) };
+                k += 4;
+            }
+            if channels == 1 {
+                c = [c[0]; 3];
+            }
+            img.set(x, y, Rgb::from_array(c));
+        }
+    }
+    Ok(img)
+}

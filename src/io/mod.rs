@@ -1,0 +1,3 @@
+//! Files: images in and out (PNG, OpenEXR, PFM), written atomically.
+
+pub mod image;

@@ -1,0 +1,21 @@
+//! Photon: a photon-mapping global-illumination renderer.
+//!
+//! The library holds everything that renders; the `photon` binary is a thin command line over
+//! it. See ARCHITECTURE.md for the map of modules, the data flow and the invariants.
+
+pub mod accel;
+pub mod camera;
+pub mod compare;
+pub mod error;
+pub mod film;
+pub mod geometry;
+pub mod integrator;
+pub mod io;
+pub mod light;
+pub mod material;
+pub mod math;
+pub mod render;
+pub mod sampling;
+pub mod scene;
+
+pub use error::{Error, Result};

@@ -1,0 +1,60 @@
+//! Lights: the closed set, one file each. Every light reports its total emitted power (flux in
+//! watts per RGB channel) and can be sampled from a shading point for next-event estimation.
+
+mod area;
+mod point;
+mod spot;
+
+pub use area::AreaLight;
+pub use point::PointLight;
+pub use spot::SpotLight;
+
+use crate::math::{Rgb, Vec2, Vec3};
+
+/// A light sampled from a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the shading point toward the light.
+    pub wi: Vec3,
+    /// Incident radiance along `wi` for area lights; for delta lights, intensity / distance²
+    /// (the delta's integral), with `pdf` = 1.
+    pub radiance: Rgb,
+    /// Solid-angle density of `wi` (1 for delta lights).
+    pub pdf: f32,
+    /// The sampled point on the light, the far end of the shadow ray.
+    pub point: Vec3,
+    /// Normal at the sampled point (zero for point and spot lights).
+    pub normal: Vec3,
+    pub is_delta: bool,
+}
+
+#[derive(Clone, Debug)]
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+    Area(AreaLight),
+}
+
+impl Light {
+    /// Total emitted power Φ in watts per channel.
+    pub fn power(&self) -> Rgb {
+        match self {
+            Light::Point(l) => l.power(),
+            Light::Spot(l) => l.power(),
+            Light::Area(l) => l.power(),
+        }
+    }
+
+    /// Sample a direction toward the light from `p`.
+    pub fn sample_li(&self, p: Vec3, u_pick: f32, u: Vec2) -> Option<LightSample> {
+        match self {
+            Light::Point(l) => l.sample_li(p),
+            Light::Spot(l) => l.sample_li(p),
+            Light::Area(l) => l.sample_li(p, u_pick, u),
+        }
+    }
+
+    pub fn is_delta(&self) -> bool {
+        !matches!(self, Light::Area(_))
+    }
+}

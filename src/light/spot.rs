@@ -1,0 +1,67 @@
+use super::LightSample;
+use crate::math::{Rgb, Vec3};
+use std::f32::consts::PI;
+
+/// Spot light: intensity `intensity` (W/sr) along `direction`, full inside the cone of
+/// half-angle `acos(cos_falloff_start)`, falling smoothly to zero at `acos(cos_cutoff)`.
+#[derive(Clone, Copy, Debug)]
+pub struct SpotLight {
+    pub position: Vec3,
+    pub direction: Vec3,
+    pub intensity: Rgb,
+    pub cos_cutoff: f32,
+    pub cos_falloff_start: f32,
+}
+
+fn smoothstep(edge0: f32, edge1: f32, x: f32) -> f32 {
+    if edge0 == edge1 {
+        return if x >= edge1 { 1.0 } else { 0.0 };
+    }
+    let t = ((x - edge0) / (edge1 - edge0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+impl SpotLight {
+    /// Build from the cone's half-angle and the width of its soft edge, both in degrees.
+    pub fn new(position: Vec3, direction: Vec3, intensity: Rgb, half_angle_deg: f32, falloff_deg: f32) -> Self {
+        let cutoff = half_angle_deg.to_radians();
+        let start = (half_angle_deg - falloff_deg).max(0.0).to_radians();
+        Self {
+            position,
+            direction: direction.normalize(),
+            intensity,
+            cos_cutoff: cutoff.cos(),
+            cos_falloff_start: start.cos(),
+        }
+    }
+
+    /// Relative intensity in direction `w` (unit, pointing away from the light).
+    pub fn falloff(&self, w: Vec3) -> f32 {
+        smoothstep(self.cos_cutoff, self.cos_falloff_start, w.dot(self.direction))
+    }
+
+    /// Φ = 2π I [(1 − cos θ_start) + (cos θ_start − cos θ_cutoff)/2]: the smoothstep ramp in
+    /// cos θ integrates to exactly half its width, since smoothstep(x) + smoothstep(1−x) = 1.
+    pub fn power(&self) -> Rgb {
+        self.intensity
+            * (2.0 * PI * ((1.0 - self.cos_falloff_start) + 0.5 * (self.cos_falloff_start - self.cos_cutoff)))
+    }
+
+    pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
+        let d = self.position - p;
+        let dist2 = d.length_squared();
+        if dist2 == 0.0 {
+            return None;
+        }
+        let wi = d / dist2.sqrt();
+        let k = self.falloff(-wi);
+        (k > 0.0).then_some(LightSample {
+            wi,
+            radiance: self.intensity * (k / dist2),
+            pdf: 1.0,
+            point: self.position,
+            normal: Vec3::ZERO,
+            is_delta: true,
+        })
+    }
+}

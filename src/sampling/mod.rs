@@ -1,0 +1,186 @@
+//! Sampling routines (each with its pdf) and a piecewise-constant 1-D distribution.
+//!
+//! Every warp maps uniform numbers in [0,1)² to a point or direction and has a matching `*_pdf`
+//! function; `tests/sampling_chi2.rs` checks each against its pdf with a chi-square test.
+
+mod rng;
+
+pub use rng::{Rng, mix64};
+
+use crate::math::{Vec2, Vec3};
+use std::f32::consts::{FRAC_1_PI, PI};
+
+/// Concentric map of the unit square to the unit disk (Shirley & Chiu 1997): uniform by area,
+/// and low distortion, so stratification survives the warp.
+pub fn concentric_disk(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o.x == 0.0 && o.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, PI / 4.0 * (o.y / o.x))
+    } else {
+        (o.y, PI / 2.0 - PI / 4.0 * (o.x / o.y))
+    };
+    r * Vec2::new(theta.cos(), theta.sin())
+}
+
+/// Uniform point on a disk of radius `radius` by the polar map the original project used
+/// (`r = R·sqrt(u)`). Density 1 / (π R²).
+pub fn uniform_disk_polar(u: Vec2, radius: f32) -> Vec2 {
+    let r = radius * u.x.sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec2::new(r * phi.cos(), r * phi.sin())
+}
+
+/// Cosine-weighted direction on the hemisphere around +z (Malley's method).
+pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
+    let d = concentric_disk(u);
+    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
+    Vec3::new(d.x, d.y, z)
+}
+
+/// Solid-angle density of [`cosine_hemisphere`]: cos θ / π.
+pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
+    cos_theta.max(0.0) * FRAC_1_PI
+}
+
+/// Uniform direction on the unit sphere. Density 1 / (4π).
+pub fn uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub const UNIFORM_SPHERE_PDF: f32 = 1.0 / (4.0 * PI);
+
+/// Uniform direction inside the cone around +z whose half-angle has cosine `cos_max`:
+/// cos θ uniform in [cos_max, 1].
+pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
+    let cos_theta = 1.0 - u.x * (1.0 - cos_max);
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta)
+}
+
+/// Solid-angle density of [`uniform_cone`] inside the cone.
+pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
+    1.0 / (2.0 * PI * (1.0 - cos_max))
+}
+
+/// The original project's cone "spread" s ∈ [0, 1] as the cosine of the cone's half-angle:
+/// cos θ is uniform in [1 − 2s, 1], so 0 is the axis, 0.5 the hemisphere and 1 the whole sphere.
+pub fn cone_cos_from_spread(spread: f32) -> f32 {
+    1.0 - 2.0 * spread.clamp(0.0, 1.0)
+}
+
+/// Uniform barycentrics (b0, b1, b2) on a triangle (the square-root map, Turk 1990).
+pub fn uniform_triangle(u: Vec2) -> Vec3 {
+    let su = u.x.sqrt();
+    let b0 = 1.0 - su;
+    let b1 = u.y * su;
+    Vec3::new(b0, b1, 1.0 - b0 - b1)
+}
+
+/// A piecewise-constant distribution over `n` discrete items, sampled by inverting its CDF.
+/// Used to pick lights by power and triangles by area.
+#[derive(Clone, Debug)]
+pub struct Distribution1D {
+    cdf: Vec<f64>,
+    weights: Vec<f64>,
+    total: f64,
+}
+
+impl Distribution1D {
+    /// Build from non-negative weights. Returns `None` if there are none or they sum to zero.
+    pub fn new(weights: &[f64]) -> Option<Self> {
+        let mut cdf = Vec::with_capacity(weights.len() + 1);
+        let mut acc = 0.0;
+        cdf.push(0.0);
+        for &w in weights {
+            acc += w.max(0.0);
+            cdf.push(acc);
+        }
+        if weights.is_empty() || acc <= 0.0 || !acc.is_finite() {
+            return None;
+        }
+        Some(Self {
+            cdf,
+            weights: weights.iter().map(|w| w.max(0.0)).collect(),
+            total: acc,
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.weights.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.weights.is_empty()
+    }
+
+    pub fn total(&self) -> f64 {
+        self.total
+    }
+
+    /// Probability of item `i`.
+    pub fn pmf(&self, i: usize) -> f32 {
+        (self.weights[i] / self.total) as f32
+    }
+
+    /// Pick an item with probability proportional to its weight; also returns `u` remapped to
+    /// [0, 1) within the chosen item so it can be reused.
+    pub fn sample(&self, u: f32) -> (usize, f32) {
+        let target = f64::from(u) * self.total;
+        // First index whose cdf exceeds target, skipping zero-weight items.
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= target)
+            .saturating_sub(1)
+            .min(self.weights.len() - 1);
+        let i = self.first_nonzero_from(i);
+        let w = self.weights[i];
+        let rest = ((target - self.cdf[i]) / w).clamp(0.0, 1.0 - f64::EPSILON) as f32;
+        (i, rest.min(1.0 - f32::EPSILON))
+    }
+
+    fn first_nonzero_from(&self, i: usize) -> usize {
+        if self.weights[i] > 0.0 {
+            return i;
+        }
+        (i..self.weights.len())
+            .chain((0..i).rev())
+            .find(|&j| self.weights[j] > 0.0)
+            .unwrap_or(i)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distribution_picks_in_proportion() {
+        let d = Distribution1D::new(&[1.0, 0.0, 3.0]).expect("non-empty");
+        let mut counts = [0usize; 3];
+        let n = 40_000;
+        for i in 0..n {
+            let (k, rest) = d.sample((i as f32 + 0.5) / n as f32);
+            assert!((0.0..1.0).contains(&rest));
+            counts[k] += 1;
+        }
+        assert_eq!(counts[1], 0);
+        assert!((counts[0] as f32 / n as f32 - 0.25).abs() < 0.001);
+        assert!((d.pmf(2) - 0.75).abs() < 1e-6);
+        assert!(Distribution1D::new(&[0.0, 0.0]).is_none());
+        assert!(Distribution1D::new(&[]).is_none());
+    }
+
+    #[test]
+    fn spread_parameter_matches_the_original_meaning() {
+        assert_eq!(cone_cos_from_spread(0.0), 1.0);
+        assert_eq!(cone_cos_from_spread(0.5), 0.0);
+        assert_eq!(cone_cos_from_spread(1.0), -1.0);
+    }
+}

@@ -1,0 +1,161 @@
+//! The renderable scene: shapes in a BVH, materials, lights, camera.
+//!
+//! A [`Scene`] is built by a [`SceneBuilder`], which validates everything; once built, rendering
+//! it cannot fail.
+
+pub mod builtin;
+mod builder;
+
+pub use builder::{Emission, SceneBuilder};
+
+use crate::accel::Bvh;
+use crate::camera::CameraDesc;
+use crate::geometry::{Bounds, Shape};
+use crate::light::Light;
+use crate::material::Material;
+use crate::math::{Frame, Ray, Rgb, Vec3};
+use crate::sampling::Distribution1D;
+
+/// Marks a primitive that is not part of an area light.
+pub const NO_LIGHT: u32 = u32::MAX;
+
+/// A ray–scene intersection.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    pub t: f32,
+    pub p: Vec3,
+    /// Geometric normal of the primitive as modelled (outward for spheres, winding for triangles).
+    pub ng: Vec3,
+    pub prim: u32,
+    pub material: u32,
+    /// Index of the area light this primitive belongs to, or [`NO_LIGHT`].
+    pub light: u32,
+}
+
+impl Hit {
+    /// Shading frame for material `m` seen from direction `wo` (pointing away from the
+    /// surface): two-sided materials face `wo`; dielectrics keep the outward normal.
+    pub fn frame(&self, m: &Material, wo: Vec3) -> Frame {
+        let n = if m.is_two_sided() && self.ng.dot(wo) < 0.0 {
+            -self.ng
+        } else {
+            self.ng
+        };
+        Frame::from_normal(n)
+    }
+}
+
+pub struct Scene {
+    pub name: String,
+    shapes: Vec<Shape>,
+    prim_material: Vec<u32>,
+    prim_light: Vec<u32>,
+    materials: Vec<Material>,
+    lights: Vec<Light>,
+    light_choice: Option<Distribution1D>,
+    pub camera: CameraDesc,
+    /// Resolution used when the user gives none.
+    pub default_resolution: (u32, u32),
+    bvh: Bvh,
+}
+
+impl Scene {
+    /// Closest intersection along `ray` nearer than `t_max`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let shapes = &self.shapes;
+        let mut best = None;
+        let (prim, t) = self.bvh.closest_hit(ray, t_max, |id, t_max| {
+            match shapes[id as usize].intersect(ray, 0.0, t_max) {
+                Some(h) => {
+                    best = Some(h);
+                    h.t
+                }
+                None => f32::INFINITY,
+            }
+        })?;
+        let _ = t;
+        let shape_hit = best?;
+        let surface = self.shapes[prim as usize].surface(ray, &shape_hit);
+        Some(Hit {
+            t: shape_hit.t,
+            p: surface.p,
+            ng: surface.n,
+            prim,
+            material: self.prim_material[prim as usize],
+            light: self.prim_light[prim as usize],
+        })
+    }
+
+    /// Whether anything blocks the segment from `origin` along unit `dir` up to `dist`.
+    #[inline]
+    pub fn occluded(&self, origin: Vec3, dir: Vec3, dist: f32) -> bool {
+        let ray = Ray::new(origin, dir);
+        let shapes = &self.shapes;
+        self.bvh.any_hit(&ray, dist, |id, t_max| {
+            shapes[id as usize]
+                .intersect(&ray, 0.0, t_max)
+                .map_or(f32::INFINITY, |h| h.t)
+        })
+    }
+
+    /// Closest hit by testing every primitive: the reference the BVH is tested against.
+    pub fn intersect_brute_force(&self, ray: &Ray, t_max: f32) -> Option<(u32, f32)> {
+        let mut best: Option<(u32, f32)> = None;
+        for (i, s) in self.shapes.iter().enumerate() {
+            let limit = best.map_or(t_max, |b| b.1);
+            if let Some(h) = s.intersect(ray, 0.0, limit) {
+                best = Some((i as u32, h.t));
+            }
+        }
+        best
+    }
+
+    pub fn material(&self, id: u32) -> &Material {
+        &self.materials[id as usize]
+    }
+
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// Radiance emitted from a hit toward direction `w` (zero unless the hit is on an area light).
+    pub fn emitted(&self, hit: &Hit, w: Vec3) -> Rgb {
+        if hit.light == NO_LIGHT {
+            return Rgb::ZERO;
+        }
+        match &self.lights[hit.light as usize] {
+            Light::Area(l) => l.emitted(hit.ng, w),
+            Light::Point(_) | Light::Spot(_) => Rgb::ZERO,
+        }
+    }
+
+    /// Pick a light in proportion to its power; returns its index and probability.
+    pub fn choose_light(&self, u: f32) -> Option<(usize, f32, f32)> {
+        let d = self.light_choice.as_ref()?;
+        let (i, rest) = d.sample(u);
+        Some((i, d.pmf(i), rest))
+    }
+
+    /// Probability that [`Scene::choose_light`] picks light `i`.
+    pub fn light_choice_pmf(&self, i: usize) -> f32 {
+        self.light_choice.as_ref().map_or(0.0, |d| d.pmf(i))
+    }
+
+    pub fn primitive_count(&self) -> usize {
+        self.shapes.len()
+    }
+
+    pub fn shape(&self, prim: u32) -> &Shape {
+        &self.shapes[prim as usize]
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        self.bvh.bounds()
+    }
+
+    /// Sum of all lights' power, watts per channel.
+    pub fn total_power(&self) -> Rgb {
+        self.lights.iter().map(Light::power).sum()
+    }
+}
