@@ -16,6 +16,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 const TILE: u32 = 16;
 
+/// The pixels of one finished tile, with the rays it traced.
+type TileResult = (Vec<(u32, u32, Rgb)>, RayStats);
+
 #[derive(Clone, Debug)]
 pub struct RenderSettings {
     pub width: u32,
@@ -44,10 +47,10 @@ impl RenderSettings {
         if self.spp == 0 {
             return bad("samples per pixel must be at least 1".into());
         }
-        if let PixelFilter::Gaussian { sigma } = self.filter {
-            if !(sigma > 0.0 && sigma <= 16.0) {
-                return bad(format!("Gaussian filter width {sigma} must be in (0, 16] pixels"));
-            }
+        if let PixelFilter::Gaussian { sigma } = self.filter
+            && !(sigma > 0.0 && sigma <= 16.0)
+        {
+            return bad(format!("Gaussian filter width {sigma} must be in (0, 16] pixels"));
         }
         Ok(())
     }
@@ -73,7 +76,7 @@ pub fn render(
     let tiles_y = settings.height.div_ceil(TILE);
     let total = u64::from(tiles_x * tiles_y);
     let done = AtomicU64::new(0);
-    let tiles: Vec<(Vec<(u32, u32, Rgb)>, RayStats)> = (0..tiles_x * tiles_y)
+    let tiles: Vec<TileResult> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|t| {
             let (tx, ty) = (t % tiles_x, t / tiles_x);

@@ -74,8 +74,8 @@ pub fn build() -> Result<Scene> {
         1.65,
         box_white,
     );
-    b.sphere(v(-1.843823, 1.665190, 2.358279), 0.68959, glass, None);
-    b.sphere(v(-3.882164, 3.510010, 3.889405), 0.58298, chrome, None);
+    b.sphere(v(-1.843823, 1.66519, 2.358279), 0.68959, glass, None);
+    b.sphere(v(-3.882164, 3.51001, 3.889405), 0.58298, chrome, None);
 
     // Disk light of radius 1 facing down: L = Φ / (π · area).
     let radius = 1.0f32;
