@@ -1,0 +1,135 @@
+//! The BVH's closest and any hit against brute force, on random triangles, spheres and disks,
+//! including rays that start on a surface (where self-intersection bugs live).
+
+use photon::camera::CameraDesc;
+use photon::material::{Lambertian, Material};
+use photon::math::{Ray, Rgb, Vec3};
+use photon::sampling::{Rng, uniform_sphere};
+use photon::scene::{Scene, SceneBuilder};
+
+fn random_scene(seed: u64, n: usize) -> Scene {
+    let mut rng = Rng::keyed(seed, &[]);
+    let mut b = SceneBuilder::new("random");
+    b.camera(
+        CameraDesc {
+            position: Vec3::new(0.0, 0.0, -5.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_deg: 40.0,
+        },
+        8,
+        8,
+    );
+    let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::splat(0.5) }));
+    let mut point = |rng: &mut Rng| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - 2.0;
+    let mut positions = Vec::new();
+    let mut tris = Vec::new();
+    for i in 0..n {
+        let c = point(&mut rng);
+        let size = 0.05 + 0.5 * rng.next_f32();
+        match i % 5 {
+            0 => {
+                b.sphere(c, size * 0.5, m, None);
+            }
+            1 => {
+                let normal = uniform_sphere(rng.next_2d());
+                b.disk(c, normal, size * 0.5, m, None);
+            }
+            _ => {
+                let base = positions.len() as u32;
+                for _ in 0..3 {
+                    positions.push(c + (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * size * 2.0);
+                }
+                tris.push([base, base + 1, base + 2]);
+            }
+        }
+    }
+    b.mesh(&positions, &tris, glam::Affine3A::IDENTITY, m, None).expect("valid mesh");
+    b.build().expect("valid scene")
+}
+
+fn check(scene: &Scene, ray: &Ray, what: &str) {
+    let bvh = scene.intersect(ray, f32::INFINITY);
+    let brute = scene.intersect_brute_force(ray, f32::INFINITY);
+    match (bvh, brute) {
+        (None, None) => {}
+        (Some(h), Some((prim, t))) => {
+            // Equal distance; the primitive too, unless two share that exact distance.
+            assert_eq!(h.t, t, "{what}: distance differs");
+            if h.prim != prim {
+                let other = scene.shape(h.prim).intersect(ray, 0.0, f32::INFINITY).map(|x| x.t);
+                assert_eq!(other, Some(t), "{what}: different primitive at a different distance");
+            }
+            // Below ~1e-3 the hit is the ray's own surface, where any-hit answers within float error.
+            for dist in [t * 0.5, t * 1.5].into_iter().filter(|_| t > 1e-3) {
+                assert_eq!(scene.occluded(ray.origin, ray.dir, dist), dist > t, "{what}: any-hit at {dist}");
+            }
+        }
+        (a, b) => panic!("{what}: BVH {a:?} vs brute force {b:?}"),
+    }
+}
+
+#[test]
+fn closest_hit_equals_brute_force_on_random_rays() {
+    let scene = random_scene(1, 500);
+    let mut rng = Rng::keyed(2, &[]);
+    let mut hits = 0;
+    for i in 0..20_000 {
+        let o = (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * 6.0;
+        let ray = Ray::new(o, uniform_sphere(rng.next_2d()));
+        check(&scene, &ray, &format!("ray {i}"));
+        hits += usize::from(scene.intersect(&ray, f32::INFINITY).is_some());
+    }
+    assert!(hits > 2_000, "the test must exercise hits, got {hits}");
+}
+
+#[test]
+fn closest_hit_equals_brute_force_for_rays_starting_on_surfaces() {
+    let scene = random_scene(3, 300);
+    let mut rng = Rng::keyed(4, &[]);
+    for i in 0..20_000 {
+        let prim = (rng.next_u32() as usize % scene.primitive_count()) as u32;
+        let s = scene.shape(prim).sample_area(rng.next_2d());
+        let ray = Ray::new(s.p, uniform_sphere(rng.next_2d()));
+        check(&scene, &ray, &format!("surface ray {i}"));
+    }
+}
+
+#[test]
+fn offset_rays_do_not_hit_their_own_surface() {
+    // A ray leaving a sphere outward must not hit it; one refracted inward must hit its far side.
+    let mut b = SceneBuilder::new("one sphere");
+    b.camera(
+        CameraDesc {
+            position: Vec3::new(0.0, 0.0, -5.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_deg: 40.0,
+        },
+        8,
+        8,
+    );
+    let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+    let center = Vec3::new(3.0, -2.0, 7.0);
+    let radius = 0.08;
+    b.sphere(center, radius, m, None);
+    let scene = b.build().expect("valid");
+    let mut rng = Rng::keyed(5, &[]);
+    for _ in 0..10_000 {
+        let n = uniform_sphere(rng.next_2d());
+        let p = center + radius * n;
+        let mut out = uniform_sphere(rng.next_2d());
+        if out.dot(n) < 0.0 {
+            out = -out;
+        }
+        let leaving = Ray::new(photon::math::offset_origin(p, n, out), out);
+        assert!(scene.intersect(&leaving, f32::INFINITY).is_none(), "self-hit leaving");
+        let inward = -out;
+        let entering = Ray::new(photon::math::offset_origin(p, n, inward), inward);
+        let hit = scene.intersect(&entering, f32::INFINITY).expect("must hit the far side");
+        let chord = 2.0 * radius * out.dot(n);
+        let eps = photon::math::surface_epsilon(p);
+        // Near grazing, the inward offset changes the chord a lot; compare lengths elsewhere.
+        assert!(out.dot(n) < 0.2 || (hit.t - chord).abs() < 3.0 * eps / out.dot(n), "t {} vs chord {chord}", hit.t);
+    }
+}

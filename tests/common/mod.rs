@@ -1,0 +1,53 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
+
+use std::path::PathBuf;
+
+/// `../shared/` beside the repository (CI provides it).
+pub fn shared_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared")
+}
+
+/// A fresh, empty directory for one test's files, under the system temp dir.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("photon-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create temp dir");
+    dir
+}
+
+/// Upper-tail check of a chi-square statistic with `dof` degrees of freedom via the
+/// Wilson–Hilferty normal approximation: returns the z-score.
+pub fn chi2_z(stat: f64, dof: f64) -> f64 {
+    let k = dof;
+    ((stat / k).powf(1.0 / 3.0) - (1.0 - 2.0 / (9.0 * k))) / (2.0 / (9.0 * k)).sqrt()
+}
+
+/// Chi-square statistic of observed counts against expected probabilities, pooling cells
+/// whose expected count is below 5 (Cochran's rule). Returns (statistic, degrees of freedom).
+pub fn chi2(observed: &[u64], expected_prob: &[f64], n: u64) -> (f64, f64) {
+    assert_eq!(observed.len(), expected_prob.len());
+    let total_p: f64 = expected_prob.iter().sum();
+    assert!((total_p - 1.0).abs() < 1e-6, "expected probabilities sum to {total_p}");
+    let mut stat = 0.0;
+    let mut cells = 0usize;
+    let (mut pool_o, mut pool_e) = (0.0, 0.0);
+    for (&o, &p) in observed.iter().zip(expected_prob) {
+        let e = p * n as f64;
+        if e < 5.0 {
+            pool_o += o as f64;
+            pool_e += e;
+            if p == 0.0 {
+                assert_eq!(o, 0, "samples fell where the pdf is zero");
+            }
+            continue;
+        }
+        stat += (o as f64 - e).powi(2) / e;
+        cells += 1;
+    }
+    if pool_e > 0.0 {
+        stat += (pool_o - pool_e).powi(2) / pool_e;
+        cells += 1;
+    }
+    (stat, (cells - 1) as f64)
+}

@@ -1,0 +1,116 @@
+//! Every light's reported power against a Monte Carlo integral of its emission, and light
+//! sampling against closed-form irradiance.
+
+use photon::geometry::{Disk, Shape, Triangle};
+use photon::light::{AreaLight, Light, PointLight, SpotLight};
+use photon::math::{Rgb, Vec3};
+use photon::sampling::{Rng, uniform_sphere};
+use photon::scene::builtin;
+use std::f32::consts::PI;
+
+const N: usize = 1_000_000;
+
+fn close(a: Rgb, b: Rgb, rel: f32) -> bool {
+    ((a - b).abs() / b.abs().max(Rgb::splat(1e-12))).max_element() < rel
+}
+
+/// Φ = ∫_A ∫_S² L(x, ω) max(n·ω, 0) dω dA, sampled uniformly in area and direction.
+fn area_power_mc(l: &AreaLight, seed: u64) -> Rgb {
+    let mut rng = Rng::keyed(seed, &[]);
+    let areas: Vec<f32> = l.shapes.iter().map(Shape::area).collect();
+    let total: f32 = areas.iter().sum();
+    let mut sum = [0.0f64; 3];
+    for _ in 0..N {
+        // Pick a shape by area, then a point on it: overall uniform by area.
+        let mut u = rng.next_f32() * total;
+        let mut k = 0;
+        while k + 1 < areas.len() && u >= areas[k] {
+            u -= areas[k];
+            k += 1;
+        }
+        let s = l.shapes[k].sample_area(rng.next_2d());
+        let w = uniform_sphere(rng.next_2d());
+        let e = l.emitted(s.n, w) * s.n.dot(w).abs() * total * 4.0 * PI;
+        for c in 0..3 {
+            sum[c] += f64::from(e[c]);
+        }
+    }
+    Rgb::new(sum[0] as f32, sum[1] as f32, sum[2] as f32) / N as f32
+}
+
+#[test]
+fn area_light_power_matches_monte_carlo() {
+    let quad = vec![
+        Shape::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0))),
+        Shape::Triangle(Triangle::new(Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y)),
+    ];
+    let disk = vec![Shape::Disk(Disk {
+        center: Vec3::ONE,
+        normal: Vec3::new(0.0, 0.6, 0.8),
+        radius: 0.7,
+    })];
+    for (shapes, two_sided) in [(quad.clone(), false), (quad, true), (disk, false)] {
+        let l = AreaLight::new(shapes, Rgb::new(17.0, 12.0, 4.0), two_sided).expect("has area");
+        let mc = area_power_mc(&l, 9);
+        assert!(close(mc, l.power(), 0.01), "two-sided {two_sided}: MC {mc} vs reported {}", l.power());
+    }
+}
+
+#[test]
+fn point_and_spot_power_match_monte_carlo() {
+    let mut rng = Rng::keyed(11, &[]);
+    let point = PointLight {
+        position: Vec3::ZERO,
+        intensity: Rgb::new(1.0, 2.0, 3.0),
+    };
+    let spot = SpotLight::new(Vec3::ZERO, Vec3::new(0.3, -1.0, 0.2), Rgb::new(5.0, 5.0, 1.0), 40.0, 15.0);
+    let (mut sp, mut ss) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
+    for _ in 0..N {
+        let w = uniform_sphere(rng.next_2d());
+        sp += (point.intensity * 4.0 * PI).as_dvec3();
+        ss += (spot.intensity * spot.falloff(w) * 4.0 * PI).as_dvec3();
+    }
+    assert!(close((sp / N as f64).as_vec3(), Light::Point(point).power(), 1e-4));
+    let spot_mc = (ss / N as f64).as_vec3();
+    assert!(close(spot_mc, spot.power(), 0.01), "spot MC {spot_mc} vs {}", spot.power());
+}
+
+#[test]
+fn disk_light_sampling_gives_the_closed_form_irradiance() {
+    // On the axis of a disk of radius R at height h: E = π L R² / (h² + R²).
+    let (r, h, radiance) = (1.0f32, 1.5f32, 3.0f32);
+    let l = AreaLight::new(
+        vec![Shape::Disk(Disk {
+            center: Vec3::new(0.0, 0.0, h),
+            normal: -Vec3::Z,
+            radius: r,
+        })],
+        Rgb::splat(radiance),
+        false,
+    )
+    .expect("has area");
+    let mut rng = Rng::keyed(12, &[]);
+    let mut e = 0.0f64;
+    for _ in 0..N {
+        let u = rng.next_f32();
+        if let Some(s) = l.sample_li(Vec3::ZERO, u, rng.next_2d()) {
+            e += f64::from(s.radiance.x * s.wi.z / s.pdf);
+        }
+    }
+    let e = e / N as f64;
+    let want = f64::from(PI * radiance * r * r / (h * h + r * r));
+    assert!((e - want).abs() / want < 0.005, "irradiance {e} vs {want}");
+    // Seen from behind, a one-sided light gives nothing.
+    assert!(l.sample_li(Vec3::new(0.0, 0.0, 3.0), 0.5, glam::Vec2::splat(0.5)).is_none());
+}
+
+#[test]
+fn built_in_lights_have_the_specified_power() {
+    let seed = builtin::load("seed").expect("builds");
+    assert_eq!(seed.lights().len(), 1);
+    assert!(close(seed.total_power(), Rgb::splat(314.159), 1e-4), "{}", seed.total_power());
+    let cornell = builtin::load("cornell").expect("builds");
+    // SCENE.md: Φ = π · 0.01365 m² · (17, 12, 4).
+    let want = Rgb::new(0.72901, 0.51459, 0.17153);
+    assert!(close(cornell.total_power(), want, 1e-3), "{}", cornell.total_power());
+}
