@@ -43,9 +43,19 @@ impl Bvh {
         }
         let boxes: Vec<Boxed> = bounds.iter().map(|b| Boxed(to_aabb(b))).collect();
         let mut build_time = Duration::ZERO;
-        let inner = obvhs::cwbvh::builder::build_cwbvh(&boxes, BvhBuildParams::medium_build(), &mut build_time);
+        let inner = obvhs::cwbvh::builder::build_cwbvh(
+            &boxes,
+            BvhBuildParams::medium_build(),
+            &mut build_time,
+        );
         let order = inner.primitive_indices.clone();
-        (Self { inner, empty: false }, order)
+        (
+            Self {
+                inner,
+                empty: false,
+            },
+            order,
+        )
     }
 
     fn to_obvhs(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
@@ -79,7 +89,9 @@ impl Bvh {
             return false;
         }
         let r = Self::to_obvhs(ray, t_max);
-        !self.inner.ray_traverse_miss(r, |r, id| intersect(id as u32, r.tmax))
+        !self
+            .inner
+            .ray_traverse_miss(r, |r, id| intersect(id as u32, r.tmax))
     }
 
     /// Number of nodes, for statistics.

@@ -96,8 +96,21 @@ mod tests {
             fov_y_deg: 40.0,
         };
         assert!(Camera::new(&desc, 10, 10).is_none());
-        let ok = CameraDesc { up: Vec3::Z, ..desc };
+        let ok = CameraDesc {
+            up: Vec3::Z,
+            ..desc
+        };
         assert!(Camera::new(&ok, 0, 10).is_none());
-        assert!(Camera::new(&CameraDesc { fov_y_deg: 180.0, ..ok }, 10, 10).is_none());
+        assert!(
+            Camera::new(
+                &CameraDesc {
+                    fov_y_deg: 180.0,
+                    ..ok
+                },
+                10,
+                10
+            )
+            .is_none()
+        );
     }
 }

@@ -66,7 +66,11 @@ impl Acc {
             rmse: (self.se / n).sqrt(),
             rel_mse: self.rel / n,
             mean_ratio: if self.sum_b == 0.0 {
-                if self.sum_a == 0.0 { 1.0 } else { f64::INFINITY }
+                if self.sum_a == 0.0 {
+                    1.0
+                } else {
+                    f64::INFINITY
+                }
             } else {
                 self.sum_a / self.sum_b
             },
@@ -138,7 +142,15 @@ mod tests {
         assert!((c.overall.rel_mse - 0.005 / 1.01).abs() < 1e-6);
         assert!((c.green.mean_ratio - 1.05).abs() < 1e-6);
         assert!(compare(&a, &Image::new(3, 1), None).is_none());
-        let crop = Crop { x0: 1, x1: 2, y0: 0, y1: 1 };
-        assert_eq!(compare(&a, &b, Some(crop)).expect("in range").overall.rmse, 0.0);
+        let crop = Crop {
+            x0: 1,
+            x1: 2,
+            y0: 0,
+            y1: 1,
+        };
+        assert_eq!(
+            compare(&a, &b, Some(crop)).expect("in range").overall.rmse,
+            0.0
+        );
     }
 }

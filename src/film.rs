@@ -43,7 +43,8 @@ impl Image {
     /// Box-downsample by an integer factor (each output pixel is the mean of a block), which is
     /// exactly what rendering at the lower resolution with a box pixel filter estimates.
     pub fn downsample(&self, factor: u32) -> Option<Image> {
-        if factor == 0 || !self.width.is_multiple_of(factor) || !self.height.is_multiple_of(factor) {
+        if factor == 0 || !self.width.is_multiple_of(factor) || !self.height.is_multiple_of(factor)
+        {
             return None;
         }
         let mut out = Image::new(self.width / factor, self.height / factor);

@@ -14,7 +14,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 #[derive(Parser)]
-#[command(name = "photon", version, about = "Photon: a photon-mapping global-illumination renderer")]
+#[command(
+    name = "photon",
+    version,
+    about = "Photon: a photon-mapping global-illumination renderer"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -101,9 +105,9 @@ fn parse_filter(s: &str) -> Result<PixelFilter, String> {
     let sigma = s
         .strip_prefix("gaussian:")
         .ok_or_else(|| format!("'{s}' is not a filter; expected 'box' or 'gaussian:SIGMA'"))?;
-    let sigma: f32 = sigma
-        .parse()
-        .map_err(|_| format!("'{sigma}' is not a number; expected 'gaussian:SIGMA' such as 'gaussian:0.5'"))?;
+    let sigma: f32 = sigma.parse().map_err(|_| {
+        format!("'{sigma}' is not a number; expected 'gaussian:SIGMA' such as 'gaussian:0.5'")
+    })?;
     Ok(PixelFilter::Gaussian { sigma })
 }
 
@@ -115,7 +119,9 @@ fn parse_crop(s: &str) -> Result<Crop, String> {
         .map_err(|_| format!("'{s}' is not a crop; expected x0,y0,x1,y1"))?;
     match v.as_slice() {
         &[x0, y0, x1, y1] => Ok(Crop { x0, x1, y0, y1 }),
-        _ => Err(format!("'{s}' is not a crop; expected four numbers x0,y0,x1,y1")),
+        _ => Err(format!(
+            "'{s}' is not a crop; expected four numbers x0,y0,x1,y1"
+        )),
     }
 }
 
@@ -179,9 +185,11 @@ fn cmd_render(a: RenderArgs) -> Result<()> {
         ProgressBar::new(0)
     };
     bar.set_style(
-        ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent:>3}%  {elapsed_precise} elapsed, ETA {eta}")
-            .expect("static template")
-            .progress_chars("=> "),
+        ProgressStyle::with_template(
+            "{spinner} rendering [{bar:40}] {percent:>3}%  {elapsed_precise} elapsed, ETA {eta}",
+        )
+        .expect("static template")
+        .progress_chars("=> "),
     );
     let start = Instant::now();
     let out = pool.install(|| {
@@ -228,7 +236,11 @@ fn cmd_compare(a: &CompareArgs) -> Result<()> {
         );
     }
     let Some(c) = compare(&img, &reference, a.crop) else {
-        bail!("the crop lies outside the {}×{} image", img.width, img.height);
+        bail!(
+            "the crop lies outside the {}×{} image",
+            img.width,
+            img.height
+        );
     };
     if a.json {
         println!("{}", serde_json::to_string_pretty(&c)?);
@@ -239,8 +251,19 @@ fn cmd_compare(a: &CompareArgs) -> Result<()> {
 }
 
 fn print_comparison(c: &Comparison) {
-    println!("{:<8} {:>12} {:>12} {:>12}", "channel", "RMSE", "relMSE", "mean ratio");
-    for (name, e) in [("red", &c.red), ("green", &c.green), ("blue", &c.blue), ("overall", &c.overall)] {
-        println!("{name:<8} {:>12.6} {:>12.6} {:>12.6}", e.rmse, e.rel_mse, e.mean_ratio);
+    println!(
+        "{:<8} {:>12} {:>12} {:>12}",
+        "channel", "RMSE", "relMSE", "mean ratio"
+    );
+    for (name, e) in [
+        ("red", &c.red),
+        ("green", &c.green),
+        ("blue", &c.blue),
+        ("overall", &c.overall),
+    ] {
+        println!(
+            "{name:<8} {:>12.6} {:>12.6} {:>12.6}",
+            e.rmse, e.rel_mse, e.mean_ratio
+        );
     }
 }

@@ -36,7 +36,10 @@ impl RenderSettings {
     pub fn validate(&self) -> Result<()> {
         let bad = |m: String| Err(Error::InvalidSetting(m));
         if self.width == 0 || self.height == 0 {
-            return bad(format!("resolution {}×{} has no pixels", self.width, self.height));
+            return bad(format!(
+                "resolution {}×{} has no pixels",
+                self.width, self.height
+            ));
         }
         if self.width > MAX_RESOLUTION || self.height > MAX_RESOLUTION {
             return bad(format!(
@@ -50,7 +53,9 @@ impl RenderSettings {
         if let PixelFilter::Gaussian { sigma } = self.filter
             && !(sigma > 0.0 && sigma <= 16.0)
         {
-            return bad(format!("Gaussian filter width {sigma} must be in (0, 16] pixels"));
+            return bad(format!(
+                "Gaussian filter width {sigma} must be in (0, 16] pixels"
+            ));
         }
         Ok(())
     }

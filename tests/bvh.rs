@@ -20,8 +20,11 @@ fn random_scene(seed: u64, n: usize) -> Scene {
         8,
         8,
     );
-    let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::splat(0.5) }));
-    let mut point = |rng: &mut Rng| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - 2.0;
+    let m = b.material(Material::Lambertian(Lambertian {
+        albedo: Rgb::splat(0.5),
+    }));
+    let mut point =
+        |rng: &mut Rng| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - 2.0;
     let mut positions = Vec::new();
     let mut tris = Vec::new();
     for i in 0..n {
@@ -38,13 +41,18 @@ fn random_scene(seed: u64, n: usize) -> Scene {
             _ => {
                 let base = positions.len() as u32;
                 for _ in 0..3 {
-                    positions.push(c + (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * size * 2.0);
+                    positions.push(
+                        c + (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5)
+                            * size
+                            * 2.0,
+                    );
                 }
                 tris.push([base, base + 1, base + 2]);
             }
         }
     }
-    b.mesh(&positions, &tris, glam::Affine3A::IDENTITY, m, None).expect("valid mesh");
+    b.mesh(&positions, &tris, glam::Affine3A::IDENTITY, m, None)
+        .expect("valid mesh");
     b.build().expect("valid scene")
 }
 
@@ -57,12 +65,23 @@ fn check(scene: &Scene, ray: &Ray, what: &str) {
             // Equal distance; the primitive too, unless two share that exact distance.
             assert_eq!(h.t, t, "{what}: distance differs");
             if h.prim != prim {
-                let other = scene.shape(h.prim).intersect(ray, 0.0, f32::INFINITY).map(|x| x.t);
-                assert_eq!(other, Some(t), "{what}: different primitive at a different distance");
+                let other = scene
+                    .shape(h.prim)
+                    .intersect(ray, 0.0, f32::INFINITY)
+                    .map(|x| x.t);
+                assert_eq!(
+                    other,
+                    Some(t),
+                    "{what}: different primitive at a different distance"
+                );
             }
             // Below ~1e-3 the hit is the ray's own surface, where any-hit answers within float error.
             for dist in [t * 0.5, t * 1.5].into_iter().filter(|_| t > 1e-3) {
-                assert_eq!(scene.occluded(ray.origin, ray.dir, dist), dist > t, "{what}: any-hit at {dist}");
+                assert_eq!(
+                    scene.occluded(ray.origin, ray.dir, dist),
+                    dist > t,
+                    "{what}: any-hit at {dist}"
+                );
             }
         }
         (a, b) => panic!("{what}: BVH {a:?} vs brute force {b:?}"),
@@ -123,13 +142,22 @@ fn offset_rays_do_not_hit_their_own_surface() {
             out = -out;
         }
         let leaving = Ray::new(photon::math::offset_origin(p, n, out), out);
-        assert!(scene.intersect(&leaving, f32::INFINITY).is_none(), "self-hit leaving");
+        assert!(
+            scene.intersect(&leaving, f32::INFINITY).is_none(),
+            "self-hit leaving"
+        );
         let inward = -out;
         let entering = Ray::new(photon::math::offset_origin(p, n, inward), inward);
-        let hit = scene.intersect(&entering, f32::INFINITY).expect("must hit the far side");
+        let hit = scene
+            .intersect(&entering, f32::INFINITY)
+            .expect("must hit the far side");
         let chord = 2.0 * radius * out.dot(n);
         let eps = photon::math::surface_epsilon(p);
         // Near grazing, the inward offset changes the chord a lot; compare lengths elsewhere.
-        assert!(out.dot(n) < 0.2 || (hit.t - chord).abs() < 3.0 * eps / out.dot(n), "t {} vs chord {chord}", hit.t);
+        assert!(
+            out.dot(n) < 0.2 || (hit.t - chord).abs() < 3.0 * eps / out.dot(n),
+            "t {} vs chord {chord}",
+            hit.t
+        );
     }
 }

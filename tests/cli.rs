@@ -21,7 +21,10 @@ fn stderr(o: &Output) -> String {
 fn assert_usage_error(o: &Output, needle: &str) {
     let err = stderr(o);
     assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
-    assert!(err.contains(needle), "stderr should mention '{needle}': {err}");
+    assert!(
+        err.contains(needle),
+        "stderr should mention '{needle}': {err}"
+    );
     assert!(!err.contains("panicked"), "must not panic: {err}");
 }
 
@@ -29,10 +32,20 @@ fn assert_usage_error(o: &Output, needle: &str) {
 fn renders_every_format_and_compares() {
     let dir = common::temp_dir("formats");
     for out in ["a.png", "a.exr", "a.pfm"] {
-        let o = photon(&["render", "cornell", "--width", "16", "--height", "12", "--spp", "2", "-q", "-o", out], &dir);
+        let o = photon(
+            &[
+                "render", "cornell", "--width", "16", "--height", "12", "--spp", "2", "-q", "-o",
+                out,
+            ],
+            &dir,
+        );
         assert!(o.status.success(), "{out}: {}", stderr(&o));
         assert!(dir.join(out).metadata().expect("written").len() > 100);
-        assert!(stderr(&o).contains("rays/s"), "summary line: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("rays/s"),
+            "summary line: {}",
+            stderr(&o)
+        );
     }
     let png = image::open(dir.join("a.png")).expect("valid PNG");
     assert_eq!((png.width(), png.height()), (16, 12));
@@ -44,7 +57,10 @@ fn renders_every_format_and_compares() {
     assert_eq!(v["overall"]["mean_ratio"].as_f64(), Some(1.0));
     let o = photon(&["compare", "a.pfm", "a.exr"], &dir);
     let table = String::from_utf8_lossy(&o.stdout);
-    assert!(table.contains("relMSE") && table.contains("overall"), "{table}");
+    assert!(
+        table.contains("relMSE") && table.contains("overall"),
+        "{table}"
+    );
     // No partial files are left behind.
     let leftovers: Vec<_> = std::fs::read_dir(&dir)
         .expect("list")
@@ -57,14 +73,24 @@ fn renders_every_format_and_compares() {
 #[test]
 fn default_render_writes_render_png() {
     let dir = common::temp_dir("default");
-    let o = photon(&["render", "--width", "24", "--height", "24", "--spp", "1", "-q"], &dir);
+    let o = photon(
+        &[
+            "render", "--width", "24", "--height", "24", "--spp", "1", "-q",
+        ],
+        &dir,
+    );
     assert!(o.status.success(), "{}", stderr(&o));
-    let img = image::open(dir.join("render.png")).expect("render.png").to_rgb8();
+    let img = image::open(dir.join("render.png"))
+        .expect("render.png")
+        .to_rgb8();
     // The seed scene: red wall on the left, green on the right.
     let left = img.get_pixel(2, 12);
     let right = img.get_pixel(21, 12);
     assert!(left[0] > 2 * left[1].max(1), "left wall is red: {left:?}");
-    assert!(right[1] > 2 * right[0].max(1), "right wall is green: {right:?}");
+    assert!(
+        right[1] > 2 * right[0].max(1),
+        "right wall is green: {right:?}"
+    );
 }
 
 #[test]
@@ -74,7 +100,10 @@ fn scenes_lists_the_built_ins() {
     assert!(o.status.success());
     let out = String::from_utf8_lossy(&o.stdout);
     for name in ["seed", "cornell", "closed-sphere"] {
-        assert!(out.lines().any(|l| l.starts_with(name)), "{name} missing from: {out}");
+        assert!(
+            out.lines().any(|l| l.starts_with(name)),
+            "{name} missing from: {out}"
+        );
     }
 }
 
@@ -82,13 +111,32 @@ fn scenes_lists_the_built_ins() {
 fn bad_input_gives_a_message_and_exit_code_2() {
     let dir = common::temp_dir("bad");
     let tiny = ["--width", "8", "--height", "8", "--spp", "1", "-q"];
-    let with = |extra: &[&str]| -> Vec<String> { extra.iter().chain(tiny.iter()).map(|s| s.to_string()).collect() };
-    let run = |args: Vec<String>| photon(&args.iter().map(String::as_str).collect::<Vec<_>>(), &dir);
+    let with = |extra: &[&str]| -> Vec<String> {
+        extra
+            .iter()
+            .chain(tiny.iter())
+            .map(|s| s.to_string())
+            .collect()
+    };
+    let run =
+        |args: Vec<String>| photon(&args.iter().map(String::as_str).collect::<Vec<_>>(), &dir);
 
-    assert_usage_error(&run(with(&["render", "nosuchscene"])), "unknown scene 'nosuchscene'");
-    assert_usage_error(&run(with(&["render", "-o", "/nonexistent-dir/x.png"])), "cannot write '/nonexistent-dir/x.png'");
-    assert_usage_error(&run(with(&["render", "-o", "out.bmp"])), "unsupported image format '.bmp'");
-    assert_usage_error(&run(with(&["render", "-o", "out"])), "unsupported image format");
+    assert_usage_error(
+        &run(with(&["render", "nosuchscene"])),
+        "unknown scene 'nosuchscene'",
+    );
+    assert_usage_error(
+        &run(with(&["render", "-o", "/nonexistent-dir/x.png"])),
+        "cannot write '/nonexistent-dir/x.png'",
+    );
+    assert_usage_error(
+        &run(with(&["render", "-o", "out.bmp"])),
+        "unsupported image format '.bmp'",
+    );
+    assert_usage_error(
+        &run(with(&["render", "-o", "out"])),
+        "unsupported image format",
+    );
     let o = photon(&["render", "--width", "0", "-q"], &dir);
     assert_usage_error(&o, "has no pixels");
     let o = photon(&["render", "--spp", "0", "-q"], &dir);
@@ -115,5 +163,8 @@ fn an_existing_output_survives_a_failed_render() {
     std::fs::write(dir.join("keep.png"), b"precious").expect("write");
     let o = photon(&["render", "nosuchscene", "-o", "keep.png"], &dir);
     assert_eq!(o.status.code(), Some(2));
-    assert_eq!(std::fs::read(dir.join("keep.png")).expect("still there"), b"precious");
+    assert_eq!(
+        std::fs::read(dir.join("keep.png")).expect("still there"),
+        b"precious"
+    );
 }

@@ -52,7 +52,11 @@ fn area_light_power_matches_monte_carlo() {
     for (shapes, two_sided) in [(quad.clone(), false), (quad, true), (disk, false)] {
         let l = AreaLight::new(shapes, Rgb::new(17.0, 12.0, 4.0), two_sided).expect("has area");
         let mc = area_power_mc(&l, 9);
-        assert!(close(mc, l.power(), 0.01), "two-sided {two_sided}: MC {mc} vs reported {}", l.power());
+        assert!(
+            close(mc, l.power(), 0.01),
+            "two-sided {two_sided}: MC {mc} vs reported {}",
+            l.power()
+        );
     }
 }
 
@@ -63,16 +67,30 @@ fn point_and_spot_power_match_monte_carlo() {
         position: Vec3::ZERO,
         intensity: Rgb::new(1.0, 2.0, 3.0),
     };
-    let spot = SpotLight::new(Vec3::ZERO, Vec3::new(0.3, -1.0, 0.2), Rgb::new(5.0, 5.0, 1.0), 40.0, 15.0);
+    let spot = SpotLight::new(
+        Vec3::ZERO,
+        Vec3::new(0.3, -1.0, 0.2),
+        Rgb::new(5.0, 5.0, 1.0),
+        40.0,
+        15.0,
+    );
     let (mut sp, mut ss) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
     for _ in 0..N {
         let w = uniform_sphere(rng.next_2d());
         sp += (point.intensity * 4.0 * PI).as_dvec3();
         ss += (spot.intensity * spot.falloff(w) * 4.0 * PI).as_dvec3();
     }
-    assert!(close((sp / N as f64).as_vec3(), Light::Point(point).power(), 1e-4));
+    assert!(close(
+        (sp / N as f64).as_vec3(),
+        Light::Point(point).power(),
+        1e-4
+    ));
     let spot_mc = (ss / N as f64).as_vec3();
-    assert!(close(spot_mc, spot.power(), 0.01), "spot MC {spot_mc} vs {}", spot.power());
+    assert!(
+        close(spot_mc, spot.power(), 0.01),
+        "spot MC {spot_mc} vs {}",
+        spot.power()
+    );
 }
 
 #[test]
@@ -101,16 +119,27 @@ fn disk_light_sampling_gives_the_closed_form_irradiance() {
     let want = f64::from(PI * radiance * r * r / (h * h + r * r));
     assert!((e - want).abs() / want < 0.005, "irradiance {e} vs {want}");
     // Seen from behind, a one-sided light gives nothing.
-    assert!(l.sample_li(Vec3::new(0.0, 0.0, 3.0), 0.5, glam::Vec2::splat(0.5)).is_none());
+    assert!(
+        l.sample_li(Vec3::new(0.0, 0.0, 3.0), 0.5, glam::Vec2::splat(0.5))
+            .is_none()
+    );
 }
 
 #[test]
 fn built_in_lights_have_the_specified_power() {
     let seed = builtin::load("seed").expect("builds");
     assert_eq!(seed.lights().len(), 1);
-    assert!(close(seed.total_power(), Rgb::splat(314.159), 1e-4), "{}", seed.total_power());
+    assert!(
+        close(seed.total_power(), Rgb::splat(314.159), 1e-4),
+        "{}",
+        seed.total_power()
+    );
     let cornell = builtin::load("cornell").expect("builds");
     // SCENE.md: Φ = π · 0.01365 m² · (17, 12, 4).
     let want = Rgb::new(0.72901, 0.51459, 0.17153);
-    assert!(close(cornell.total_power(), want, 1e-3), "{}", cornell.total_power());
+    assert!(
+        close(cornell.total_power(), want, 1e-3),
+        "{}",
+        cornell.total_power()
+    );
 }

@@ -1,7 +1,9 @@
 //! BSDF properties: white Lambertian reflects everything, reciprocity, energy conservation,
 //! and the dielectric's Fresnel split.
 
-use photon::material::{Dielectric, Lambertian, Material, Mirror, TransportMode, fresnel_dielectric};
+use photon::material::{
+    Dielectric, Lambertian, Material, Mirror, TransportMode, fresnel_dielectric,
+};
 use photon::math::{Rgb, Vec3};
 use photon::sampling::{Rng, uniform_sphere};
 
@@ -19,10 +21,16 @@ fn white_lambertian_reflects_everything_and_is_reciprocal() {
         let wi2 = uniform_sphere(rng.next_2d());
         assert_eq!(m.eval(wi, wi2), m.eval(wi2, wi), "reciprocity");
     }
-    assert!((sum / f64::from(n) - 1.0).abs() < 0.01, "albedo {}", sum / f64::from(n));
+    assert!(
+        (sum / f64::from(n) - 1.0).abs() < 0.01,
+        "albedo {}",
+        sum / f64::from(n)
+    );
     // Sampling gives weight = albedo and a pdf that agrees with pdf().
     for _ in 0..1000 {
-        let s = m.sample(wo, rng.next_f32(), rng.next_2d(), TransportMode::Radiance).expect("sample");
+        let s = m
+            .sample(wo, rng.next_f32(), rng.next_2d(), TransportMode::Radiance)
+            .expect("sample");
         assert_eq!(s.weight, Rgb::ONE);
         assert!((s.pdf - m.pdf(wo, s.wi)).abs() < 1e-5);
         assert!(s.wi.z >= 0.0 && !s.specular);
@@ -31,9 +39,13 @@ fn white_lambertian_reflects_everything_and_is_reciprocal() {
 
 #[test]
 fn mirror_reflects_about_the_normal() {
-    let m = Material::Mirror(Mirror { reflectance: Rgb::new(0.9, 0.8, 0.7) });
+    let m = Material::Mirror(Mirror {
+        reflectance: Rgb::new(0.9, 0.8, 0.7),
+    });
     let wo = Vec3::new(0.3, -0.2, 0.9).normalize();
-    let s = m.sample(wo, 0.5, glam::Vec2::ZERO, TransportMode::Radiance).expect("sample");
+    let s = m
+        .sample(wo, 0.5, glam::Vec2::ZERO, TransportMode::Radiance)
+        .expect("sample");
     assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
     assert_eq!(s.weight, Rgb::new(0.9, 0.8, 0.7));
     assert!(s.specular && m.is_specular());
@@ -41,7 +53,10 @@ fn mirror_reflects_about_the_normal() {
 
 #[test]
 fn dielectric_conserves_energy_and_picks_branches_by_fresnel() {
-    let glass = Dielectric { ior: 1.5, transmittance: Rgb::ONE };
+    let glass = Dielectric {
+        ior: 1.5,
+        transmittance: Rgb::ONE,
+    };
     let m = Material::Dielectric(glass);
     let mut rng = Rng::keyed(2, &[]);
     for cos in [0.95f32, 0.5, 0.1, -0.95, -0.5, -0.3] {
@@ -50,17 +65,25 @@ fn dielectric_conserves_energy_and_picks_branches_by_fresnel() {
         let f = fresnel_dielectric(cos, 1.5);
         let (r, t) = glass.branches(wo, TransportMode::Importance);
         let total = r.weight.x + t.map_or(0.0, |t| t.weight.x);
-        assert!((total - 1.0).abs() < 1e-5, "flux is conserved at cos {cos}: {total}");
+        assert!(
+            (total - 1.0).abs() < 1e-5,
+            "flux is conserved at cos {cos}: {total}"
+        );
         let n = 100_000;
         let mut reflected = 0;
         for _ in 0..n {
-            let s = m.sample(wo, rng.next_f32(), rng.next_2d(), TransportMode::Importance).expect("sample");
+            let s = m
+                .sample(wo, rng.next_f32(), rng.next_2d(), TransportMode::Importance)
+                .expect("sample");
             if s.wi.z * wo.z > 0.0 {
                 reflected += 1;
             }
         }
         let frac = reflected as f32 / n as f32;
-        assert!((frac - f).abs() < 0.01, "cos {cos}: reflected {frac} vs F {f}");
+        assert!(
+            (frac - f).abs() < 0.01,
+            "cos {cos}: reflected {frac} vs F {f}"
+        );
     }
     // Radiance crossing into glass is scaled by 1/η² (and back out by η²).
     let wo = Vec3::new(0.0, 0.0, 1.0);

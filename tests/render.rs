@@ -21,21 +21,30 @@ fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
 
 fn run(scene: &str, integrator: &Integrator, s: &RenderSettings) -> Image {
     let scene = builtin::load(scene).expect("built-in scene");
-    render(&scene, integrator, s, &|_, _| {}).expect("renders").image
+    render(&scene, integrator, s, &|_, _| {})
+        .expect("renders")
+        .image
 }
 
 #[test]
 fn closed_sphere_path_tracer_gives_exactly_one_everywhere() {
     let want = builtin::sphere::expected_radiance();
     assert!((want - 1.0).abs() < 1e-6);
-    let img = run("closed-sphere", &Integrator::Path(PathConfig::default()), &settings(8, 8, 8192));
+    let img = run(
+        "closed-sphere",
+        &Integrator::Path(PathConfig::default()),
+        &settings(8, 8, 8192),
+    );
     let mean = img.mean();
     for c in mean.to_array() {
         assert!((c - 1.0).abs() < 0.005, "mean radiance {mean}");
     }
     for p in &img.pixels {
         for c in p.to_array() {
-            assert!((c - 1.0).abs() < 0.01, "pixel radiance {p} is not within 1% of 1");
+            assert!(
+                (c - 1.0).abs() < 0.01,
+                "pixel radiance {p} is not within 1% of 1"
+            );
         }
     }
 }
@@ -43,7 +52,11 @@ fn closed_sphere_path_tracer_gives_exactly_one_everywhere() {
 #[test]
 fn closed_sphere_direct_light_is_exactly_half() {
     // Direct light only: ρ I / (π R²) = 0.5, with no noise at all (a point light, no bounce).
-    let img = run("closed-sphere", &Integrator::Direct(DirectConfig::default()), &settings(16, 16, 2));
+    let img = run(
+        "closed-sphere",
+        &Integrator::Direct(DirectConfig::default()),
+        &settings(16, 16, 2),
+    );
     for p in &img.pixels {
         for c in p.to_array() {
             assert!((c - 0.5).abs() < 1e-4, "pixel {p}");
@@ -57,11 +70,19 @@ fn cornell_path_tracer_matches_the_converged_reference() {
     let reference = read_image(&common::shared_dir().join("scenes/cornell-box/reference.exr"))
         .expect("reference.exr in ../shared");
     let reference = reference.downsample(8).expect("512 divides by 8");
-    let img = run("cornell", &Integrator::Path(PathConfig::default()), &settings(64, 64, 1024));
+    let img = run(
+        "cornell",
+        &Integrator::Path(PathConfig::default()),
+        &settings(64, 64, 1024),
+    );
     let c = compare(&img, &reference, None).expect("same size");
     assert!(c.overall.rel_mse <= 0.02, "relMSE {}", c.overall.rel_mse);
     for (name, e) in [("red", c.red), ("green", c.green), ("blue", c.blue)] {
-        assert!((e.mean_ratio - 1.0).abs() < 0.01, "{name} mean ratio {}", e.mean_ratio);
+        assert!(
+            (e.mean_ratio - 1.0).abs() < 0.01,
+            "{name} mean ratio {}",
+            e.mean_ratio
+        );
     }
 }
 
@@ -71,11 +92,19 @@ fn cornell_direct_light_is_darker_than_full_transport_but_close_in_layout() {
         .expect("reference.exr")
         .downsample(16)
         .expect("divides");
-    let img = run("cornell", &Integrator::Direct(DirectConfig::default()), &settings(32, 32, 16));
+    let img = run(
+        "cornell",
+        &Integrator::Direct(DirectConfig::default()),
+        &settings(32, 32, 16),
+    );
     let c = compare(&img, &reference, None).expect("same size");
     // No indirect light: every channel is darker, but by well under half.
     for e in [c.red, c.green, c.blue] {
-        assert!(e.mean_ratio < 0.95 && e.mean_ratio > 0.4, "mean ratio {}", e.mean_ratio);
+        assert!(
+            e.mean_ratio < 0.95 && e.mean_ratio > 0.4,
+            "mean ratio {}",
+            e.mean_ratio
+        );
     }
 }
 
@@ -93,13 +122,34 @@ fn one_thread_and_two_threads_give_identical_images() {
     for integrator in &integrators {
         let mut images = Vec::new();
         for threads in [1, 2] {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
-            images.push(pool.install(|| render(&scene, integrator, &s, &|_, _| {}).expect("renders").image));
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool");
+            images.push(pool.install(|| {
+                render(&scene, integrator, &s, &|_, _| {})
+                    .expect("renders")
+                    .image
+            }));
         }
-        let bits = |img: &Image| img.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+        let bits = |img: &Image| {
+            img.pixels
+                .iter()
+                .flat_map(|p| p.to_array().map(f32::to_bits))
+                .collect::<Vec<_>>()
+        };
         assert_eq!(bits(&images[0]), bits(&images[1]), "{}", integrator.name());
         // A different seed gives a different image: the seed really keys the streams.
-        let other = render(&scene, integrator, &RenderSettings { seed: 2, ..s.clone() }, &|_, _| {}).expect("renders");
+        let other = render(
+            &scene,
+            integrator,
+            &RenderSettings {
+                seed: 2,
+                ..s.clone()
+            },
+            &|_, _| {},
+        )
+        .expect("renders");
         assert_ne!(bits(&images[0]), bits(&other.image));
     }
 }
@@ -107,12 +157,20 @@ fn one_thread_and_two_threads_give_identical_images() {
 #[test]
 #[ignore = "long: full-resolution 1024 spp convergence run (about 10 minutes on 2 cores)"]
 fn cornell_path_tracer_full_resolution_1024spp() {
-    let reference =
-        read_image(&common::shared_dir().join("scenes/cornell-box/reference.exr")).expect("reference.exr");
-    let img = run("cornell", &Integrator::Path(PathConfig::default()), &settings(512, 512, 1024));
+    let reference = read_image(&common::shared_dir().join("scenes/cornell-box/reference.exr"))
+        .expect("reference.exr");
+    let img = run(
+        "cornell",
+        &Integrator::Path(PathConfig::default()),
+        &settings(512, 512, 1024),
+    );
     let c = compare(&img, &reference, None).expect("same size");
     assert!(c.overall.rel_mse <= 0.02, "relMSE {}", c.overall.rel_mse);
     for e in [c.red, c.green, c.blue] {
-        assert!((e.mean_ratio - 1.0).abs() < 0.01, "mean ratio {}", e.mean_ratio);
+        assert!(
+            (e.mean_ratio - 1.0).abs() < 0.01,
+            "mean ratio {}",
+            e.mean_ratio
+        );
     }
 }

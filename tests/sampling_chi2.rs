@@ -5,8 +5,8 @@ mod common;
 use common::{chi2, chi2_z};
 use photon::math::{Vec2, Vec3};
 use photon::sampling::{
-    Rng, concentric_disk, cone_cos_from_spread, cosine_hemisphere, uniform_cone, uniform_disk_polar,
-    uniform_sphere, uniform_triangle,
+    Rng, concentric_disk, cone_cos_from_spread, cosine_hemisphere, uniform_cone,
+    uniform_disk_polar, uniform_sphere, uniform_triangle,
 };
 use std::f64::consts::PI;
 
@@ -16,7 +16,11 @@ const Z_MAX: f64 = 4.0;
 
 /// Histogram directions over (cos θ, φ) cells. Solid angle is dcosθ dφ, so a pdf in solid angle
 /// integrates over a cell in closed form. `cell_prob(c0, c1, dphi)` gives a cell's probability.
-fn direction_test(name: &str, sample: impl Fn(Vec2) -> Vec3, cell_prob: impl Fn(f64, f64, f64) -> f64) {
+fn direction_test(
+    name: &str,
+    sample: impl Fn(Vec2) -> Vec3,
+    cell_prob: impl Fn(f64, f64, f64) -> f64,
+) {
     let (nt, np) = (24usize, 32usize);
     let mut counts = vec![0u64; nt * np];
     let mut rng = Rng::keyed(42, &[name.len() as u64]);
@@ -39,7 +43,10 @@ fn direction_test(name: &str, sample: impl Fn(Vec2) -> Vec3, cell_prob: impl Fn(
     }
     let (stat, dof) = chi2(&counts, &probs, N);
     let z = chi2_z(stat, dof);
-    assert!(z < Z_MAX, "{name}: chi² = {stat:.1} with {dof} dof (z = {z:.2})");
+    assert!(
+        z < Z_MAX,
+        "{name}: chi² = {stat:.1} with {dof} dof (z = {z:.2})"
+    );
 }
 
 #[test]
@@ -53,7 +60,9 @@ fn cosine_hemisphere_matches_cos_over_pi() {
 
 #[test]
 fn uniform_sphere_matches_one_over_four_pi() {
-    direction_test("sphere", uniform_sphere, |c0, c1, dphi| (c1 - c0) * dphi / (4.0 * PI));
+    direction_test("sphere", uniform_sphere, |c0, c1, dphi| {
+        (c1 - c0) * dphi / (4.0 * PI)
+    });
 }
 
 #[test]
@@ -95,7 +104,10 @@ fn disk_test(name: &str, sample: impl Fn(Vec2) -> Vec2) {
     }
     let (stat, dof) = chi2(&counts, &probs, N);
     let z = chi2_z(stat, dof);
-    assert!(z < Z_MAX, "{name}: chi² = {stat:.1} with {dof} dof (z = {z:.2})");
+    assert!(
+        z < Z_MAX,
+        "{name}: chi² = {stat:.1} with {dof} dof (z = {z:.2})"
+    );
 }
 
 #[test]
@@ -132,7 +144,10 @@ fn triangle_sampler_is_uniform_by_area() {
         .collect();
     let (stat, dof) = chi2(&counts, &probs, N);
     let z = chi2_z(stat, dof);
-    assert!(z < Z_MAX, "triangle: chi² = {stat:.1} with {dof} dof (z = {z:.2})");
+    assert!(
+        z < Z_MAX,
+        "triangle: chi² = {stat:.1} with {dof} dof (z = {z:.2})"
+    );
 }
 
 #[test]

@@ -14,7 +14,10 @@ pub struct Disk {
 impl Disk {
     pub fn bounds(&self) -> Bounds {
         // Extent of a disk along axis i is r·sqrt(1 − n_i²).
-        let e = self.radius * (Vec3::ONE - self.normal * self.normal).max(Vec3::ZERO).sqrt();
+        let e = self.radius
+            * (Vec3::ONE - self.normal * self.normal)
+                .max(Vec3::ZERO)
+                .sqrt();
         Bounds {
             min: self.center - e,
             max: self.center + e,

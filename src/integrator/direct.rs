@@ -29,12 +29,25 @@ impl Default for DirectConfig {
     }
 }
 
-pub(super) fn radiance(c: &DirectConfig, scene: &Scene, ray: &Ray, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
+pub(super) fn radiance(
+    c: &DirectConfig,
+    scene: &Scene,
+    ray: &Ray,
+    rng: &mut Rng,
+    stats: &mut RayStats,
+) -> Rgb {
     stats.camera += 1;
     trace(c, scene, ray, 0, rng, stats)
 }
 
-fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, depth: u32, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
+fn trace(
+    c: &DirectConfig,
+    scene: &Scene,
+    ray: &Ray,
+    depth: u32,
+    rng: &mut Rng,
+    stats: &mut RayStats,
+) -> Rgb {
     let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
         return Rgb::ZERO;
     };
@@ -52,10 +65,20 @@ fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, depth: u32, rng: &mut Rng, 
 }
 
 /// Light arriving directly from every light, averaged over `light_samples` samples for area lights.
-fn direct_light(c: &DirectConfig, scene: &Scene, sp: &ShadingPoint, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
+fn direct_light(
+    c: &DirectConfig,
+    scene: &Scene,
+    sp: &ShadingPoint,
+    rng: &mut Rng,
+    stats: &mut RayStats,
+) -> Rgb {
     let mut sum = Rgb::ZERO;
     for light in scene.lights() {
-        let n = if light.is_delta() { 1 } else { c.light_samples.max(1) };
+        let n = if light.is_delta() {
+            1
+        } else {
+            c.light_samples.max(1)
+        };
         let mut acc = Rgb::ZERO;
         for _ in 0..n {
             let u_pick = rng.next_f32();

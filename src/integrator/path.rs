@@ -1,7 +1,9 @@
 //! Unidirectional path tracing with next-event estimation, multiple importance sampling
 //! (Veach & Guibas 1995, power heuristic) and Russian roulette: the ground truth.
 
-use super::{RayStats, ShadingPoint, light_pdf_for_hit, light_sample_contribution, power_heuristic};
+use super::{
+    RayStats, ShadingPoint, light_pdf_for_hit, light_sample_contribution, power_heuristic,
+};
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, offset_origin};
 use crate::sampling::Rng;
@@ -19,12 +21,18 @@ impl Default for PathConfig {
     fn default() -> Self {
         Self {
             max_depth: 256,
-            rr_depth: 4,
+            rr_depth: 6,
         }
     }
 }
 
-pub(super) fn radiance(c: &PathConfig, scene: &Scene, camera_ray: &Ray, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
+pub(super) fn radiance(
+    c: &PathConfig,
+    scene: &Scene,
+    camera_ray: &Ray,
+    rng: &mut Rng,
+    stats: &mut RayStats,
+) -> Rgb {
     let mut l = Rgb::ZERO;
     let mut beta = Rgb::ONE;
     let mut ray = *camera_ray;
@@ -57,7 +65,10 @@ pub(super) fn radiance(c: &PathConfig, scene: &Scene, camera_ray: &Ray, rng: &mu
             l += beta * next_event(scene, &sp, rng, stats);
         }
         let u_lobe = rng.next_f32();
-        let Some(s) = sp.material.sample(sp.wo_local, u_lobe, rng.next_2d(), TransportMode::Radiance) else {
+        let Some(s) =
+            sp.material
+                .sample(sp.wo_local, u_lobe, rng.next_2d(), TransportMode::Radiance)
+        else {
             break;
         };
         beta *= s.weight;
@@ -102,4 +113,3 @@ fn next_event(scene: &Scene, sp: &ShadingPoint, rng: &mut Rng, stats: &mut RaySt
         value * power_heuristic(ls.pdf, bsdf_pdf)
     }
 }
-

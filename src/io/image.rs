@@ -36,9 +36,10 @@ impl ImageFormat {
 fn unsupported(path: &Path, expected: &'static str) -> Error {
     Error::UnsupportedImageFormat {
         path: path.to_owned(),
-        extension: path
-            .extension()
-            .map_or_else(|| "(none)".to_owned(), |e| format!(".{}", e.to_string_lossy())),
+        extension: path.extension().map_or_else(
+            || "(none)".to_owned(),
+            |e| format!(".{}", e.to_string_lossy()),
+        ),
         expected,
     }
 }
@@ -58,7 +59,9 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
 
 /// The temporary sibling a file is written to before being renamed into place.
 pub fn temp_path(path: &Path) -> PathBuf {
-    let name = path.file_name().map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    let name = path
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
     path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
 }
 
@@ -203,18 +206,30 @@ fn parse_pfm(data: &[u8]) -> Result<Image, String> {
     let channels = match tokens[0].as_str() {
         "PF" => 3,
         "Pf" => 1,
-        m => return Err(format!("not a PFM file (magic '{m}', expected 'PF' or 'Pf')")),
+        m => {
+            return Err(format!(
+                "not a PFM file (magic '{m}', expected 'PF' or 'Pf')"
+            ));
+        }
     };
-    let parse = |s: &str, what: &str| s.parse::<u32>().map_err(|_| format!("bad {what} '{s}' in PFM header"));
+    let parse = |s: &str, what: &str| {
+        s.parse::<u32>()
+            .map_err(|_| format!("bad {what} '{s}' in PFM header"))
+    };
     let (w, h) = (parse(&tokens[1], "width")?, parse(&tokens[2], "height")?);
-    let scale: f32 = tokens[3].parse().map_err(|_| format!("bad scale '{}' in PFM header", tokens[3]))?;
+    let scale: f32 = tokens[3]
+        .parse()
+        .map_err(|_| format!("bad scale '{}' in PFM header", tokens[3]))?;
     let needed = (w as usize)
         .checked_mul(h as usize)
         .and_then(|n| n.checked_mul(channels * 4))
         .ok_or("PFM dimensions overflow")?;
     let body = data.get(i..).unwrap_or_default();
     if body.len() < needed {
-        return Err(format!("truncated PFM data: {} bytes, expected {needed}", body.len()));
+        return Err(format!(
+            "truncated PFM data: {} bytes, expected {needed}",
+            body.len()
+        ));
     }
     let mut img = Image::new(w, h);
     let mut k = 0;
@@ -223,7 +238,11 @@ fn parse_pfm(data: &[u8]) -> Result<Image, String> {
             let mut c = [0.0f32; 3];
             for v in c.iter_mut().take(channels) {
                 let b = [body[k], body[k + 1], body[k + 2], body[k + 3]];
-                *v = if scale < 0.0 { f32::from_le_bytes(b) } else { f32::from_be_bytes(b) };
+                *v = if scale < 0.0 {
+                    f32::from_le_bytes(b)
+                } else {
+                    f32::from_be_bytes(b)
+                };
                 k += 4;
             }
             if channels == 1 {

@@ -23,7 +23,13 @@ fn smoothstep(edge0: f32, edge1: f32, x: f32) -> f32 {
 
 impl SpotLight {
     /// Build from the cone's half-angle and the width of its soft edge, both in degrees.
-    pub fn new(position: Vec3, direction: Vec3, intensity: Rgb, half_angle_deg: f32, falloff_deg: f32) -> Self {
+    pub fn new(
+        position: Vec3,
+        direction: Vec3,
+        intensity: Rgb,
+        half_angle_deg: f32,
+        falloff_deg: f32,
+    ) -> Self {
         let cutoff = half_angle_deg.to_radians();
         let start = (half_angle_deg - falloff_deg).max(0.0).to_radians();
         Self {
@@ -37,14 +43,21 @@ impl SpotLight {
 
     /// Relative intensity in direction `w` (unit, pointing away from the light).
     pub fn falloff(&self, w: Vec3) -> f32 {
-        smoothstep(self.cos_cutoff, self.cos_falloff_start, w.dot(self.direction))
+        smoothstep(
+            self.cos_cutoff,
+            self.cos_falloff_start,
+            w.dot(self.direction),
+        )
     }
 
     /// Φ = 2π I [(1 − cos θ_start) + (cos θ_start − cos θ_cutoff)/2]: the smoothstep ramp in
     /// cos θ integrates to exactly half its width, since smoothstep(x) + smoothstep(1−x) = 1.
     pub fn power(&self) -> Rgb {
         self.intensity
-            * (2.0 * PI * ((1.0 - self.cos_falloff_start) + 0.5 * (self.cos_falloff_start - self.cos_cutoff)))
+            * (2.0
+                * PI
+                * ((1.0 - self.cos_falloff_start)
+                    + 0.5 * (self.cos_falloff_start - self.cos_cutoff)))
     }
 
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {

@@ -39,7 +39,11 @@ pub struct SpecularBranch {
 
 impl Dielectric {
     /// Both branches with their weights; refraction is `None` under total internal reflection.
-    pub fn branches(&self, wo: Vec3, mode: TransportMode) -> (SpecularBranch, Option<SpecularBranch>) {
+    pub fn branches(
+        &self,
+        wo: Vec3,
+        mode: TransportMode,
+    ) -> (SpecularBranch, Option<SpecularBranch>) {
         let f = fresnel_dielectric(wo.z, self.ior);
         let reflected = SpecularBranch {
             wi: Vec3::new(-wo.x, -wo.y, wo.z),
@@ -117,7 +121,10 @@ mod tests {
         let sin_o = 0.6f32;
         let sin_t = (t.wi.x * t.wi.x + t.wi.y * t.wi.y).sqrt();
         assert!((sin_o - 1.5 * sin_t).abs() < 1e-5);
-        assert!(t.wi.x < 0.0, "refracted ray continues to the other side of the normal");
+        assert!(
+            t.wi.x < 0.0,
+            "refracted ray continues to the other side of the normal"
+        );
         // Leaving: the reverse direction comes back out with the original angle.
         let (_, back) = glass.branches(-t.wi, TransportMode::Importance);
         let back = back.expect("reverse path cannot be TIR");

@@ -75,7 +75,13 @@ impl Material {
     }
 
     /// Sample an incident direction. `u_lobe` picks a lobe, `u` the direction within it.
-    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+    pub fn sample(
+        &self,
+        wo: Vec3,
+        u_lobe: f32,
+        u: Vec2,
+        mode: TransportMode,
+    ) -> Option<BsdfSample> {
         match self {
             Material::Lambertian(m) => m.sample(wo, u),
             Material::Mirror(m) => m.sample(wo),

@@ -72,7 +72,10 @@ impl SceneBuilder {
         material: u32,
         emission: Option<Emission>,
     ) -> Result<&mut Self> {
-        let world: Vec<Vec3> = positions.iter().map(|&p| transform.transform_point3(p)).collect();
+        let world: Vec<Vec3> = positions
+            .iter()
+            .map(|&p| transform.transform_point3(p))
+            .collect();
         let mut shapes = Vec::with_capacity(triangles.len());
         for (k, t) in triangles.iter().enumerate() {
             let v = |i: u32| {
@@ -108,8 +111,18 @@ impl SceneBuilder {
         self
     }
 
-    pub fn sphere(&mut self, center: Vec3, radius: f32, material: u32, emission: Option<Emission>) -> &mut Self {
-        self.object(vec![Shape::Sphere(Sphere { center, radius })], material, emission);
+    pub fn sphere(
+        &mut self,
+        center: Vec3,
+        radius: f32,
+        material: u32,
+        emission: Option<Emission>,
+    ) -> &mut Self {
+        self.object(
+            vec![Shape::Sphere(Sphere { center, radius })],
+            material,
+            emission,
+        );
         self
     }
 
@@ -122,12 +135,23 @@ impl SceneBuilder {
         emission: Option<Emission>,
     ) -> &mut Self {
         let normal = normal.normalize();
-        self.object(vec![Shape::Disk(Disk { center, normal, radius })], material, emission);
+        self.object(
+            vec![Shape::Disk(Disk {
+                center,
+                normal,
+                radius,
+            })],
+            material,
+            emission,
+        );
         self
     }
 
     pub fn point_light(&mut self, position: Vec3, intensity: Rgb) -> &mut Self {
-        self.lights.push(Light::Point(PointLight { position, intensity }));
+        self.lights.push(Light::Point(PointLight {
+            position,
+            intensity,
+        }));
         self
     }
 
@@ -151,7 +175,10 @@ impl SceneBuilder {
         let mut lights = self.lights;
         for (i, o) in self.objects.into_iter().enumerate() {
             if o.material as usize >= self.materials.len() {
-                return invalid(format!("object {i} uses material {} which does not exist", o.material));
+                return invalid(format!(
+                    "object {i} uses material {} which does not exist",
+                    o.material
+                ));
             }
             let check = |s: &Shape| {
                 let b = s.bounds();
@@ -163,7 +190,10 @@ impl SceneBuilder {
             let light = match o.emission {
                 Some(e) if e.radiance.max_element() > 0.0 => {
                     if !e.radiance.is_finite() || e.radiance.min_element() < 0.0 {
-                        return invalid(format!("object {i} has an invalid emission {:?}", e.radiance));
+                        return invalid(format!(
+                            "object {i} has an invalid emission {:?}",
+                            e.radiance
+                        ));
                     }
                     match AreaLight::new(o.shapes.clone(), e.radiance, e.two_sided) {
                         Some(l) => {

@@ -3,8 +3,8 @@
 //! A [`Scene`] is built by a [`SceneBuilder`], which validates everything; once built, rendering
 //! it cannot fail.
 
-pub mod builtin;
 mod builder;
+pub mod builtin;
 
 pub use builder::{Emission, SceneBuilder};
 

@@ -1,5 +1,8 @@
 //! Helpers shared by the integration tests.
-#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
+#![allow(
+    dead_code,
+    reason = "each test binary uses a different subset of these helpers"
+)]
 
 use std::path::PathBuf;
 
@@ -28,7 +31,10 @@ pub fn chi2_z(stat: f64, dof: f64) -> f64 {
 pub fn chi2(observed: &[u64], expected_prob: &[f64], n: u64) -> (f64, f64) {
     assert_eq!(observed.len(), expected_prob.len());
     let total_p: f64 = expected_prob.iter().sum();
-    assert!((total_p - 1.0).abs() < 1e-6, "expected probabilities sum to {total_p}");
+    assert!(
+        (total_p - 1.0).abs() < 1e-6,
+        "expected probabilities sum to {total_p}"
+    );
     let mut stat = 0.0;
     let mut cells = 0usize;
     let (mut pool_o, mut pool_e) = (0.0, 0.0);

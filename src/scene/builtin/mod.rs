@@ -41,7 +41,11 @@ pub fn load(name: &str) -> Result<Scene> {
         Some(b) => (b.build)(),
         None => Err(Error::UnknownScene {
             name: name.to_owned(),
-            available: BUILTINS.iter().map(|b| b.name).collect::<Vec<_>>().join(", "),
+            available: BUILTINS
+                .iter()
+                .map(|b| b.name)
+                .collect::<Vec<_>>()
+                .join(", "),
         }),
     }
 }

@@ -56,21 +56,56 @@ pub fn build() -> Result<Scene> {
     let (x0, x1, y0, y1, z1) = (-5.5f32, 0.0f32, -1.0f32, 5.5f32, 5.5f32);
     let v = Vec3::new;
     // Floor, ceiling, back wall, left (red) and right (green) walls, each facing into the room.
-    b.quad([v(x0, y0, 0.0), v(x1, y0, 0.0), v(x1, y1, 0.0), v(x0, y1, 0.0)], grey, None);
-    b.quad([v(x0, y0, z1), v(x0, y1, z1), v(x1, y1, z1), v(x1, y0, z1)], grey, None);
-    b.quad([v(x0, y1, 0.0), v(x1, y1, 0.0), v(x1, y1, z1), v(x0, y1, z1)], grey, None);
-    b.quad([v(x0, y0, 0.0), v(x0, y1, 0.0), v(x0, y1, z1), v(x0, y0, z1)], red, None);
-    b.quad([v(x1, y0, 0.0), v(x1, y0, z1), v(x1, y1, z1), v(x1, y1, 0.0)], green, None);
+    b.quad(
+        [
+            v(x0, y0, 0.0),
+            v(x1, y0, 0.0),
+            v(x1, y1, 0.0),
+            v(x0, y1, 0.0),
+        ],
+        grey,
+        None,
+    );
+    b.quad(
+        [v(x0, y0, z1), v(x0, y1, z1), v(x1, y1, z1), v(x1, y0, z1)],
+        grey,
+        None,
+    );
+    b.quad(
+        [v(x0, y1, 0.0), v(x1, y1, 0.0), v(x1, y1, z1), v(x0, y1, z1)],
+        grey,
+        None,
+    );
+    b.quad(
+        [v(x0, y0, 0.0), v(x0, y1, 0.0), v(x0, y1, z1), v(x0, y0, z1)],
+        red,
+        None,
+    );
+    b.quad(
+        [v(x1, y0, 0.0), v(x1, y0, z1), v(x1, y1, z1), v(x1, y1, 0.0)],
+        green,
+        None,
+    );
 
     prism(
         &mut b,
-        [(-2.6476, 2.9665), (-4.2235, 2.4776), (-4.7124, 4.0535), (-3.1365, 4.5424)],
+        [
+            (-2.6476, 2.9665),
+            (-4.2235, 2.4776),
+            (-4.7124, 4.0535),
+            (-3.1365, 4.5424),
+        ],
         3.3,
         box_white,
     );
     prism(
         &mut b,
-        [(-0.8235, 2.2446), (-1.2954, 0.6635), (-2.8765, 1.1354), (-2.4046, 2.7165)],
+        [
+            (-0.8235, 2.2446),
+            (-1.2954, 0.6635),
+            (-2.8765, 1.1354),
+            (-2.4046, 2.7165),
+        ],
         1.65,
         box_white,
     );
