@@ -23,7 +23,7 @@ fn random_scene(seed: u64, n: usize) -> Scene {
     let m = b.material(Material::Lambertian(Lambertian {
         albedo: Rgb::splat(0.5),
     }));
-    let mut point =
+    let point =
         |rng: &mut Rng| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - 2.0;
     let mut positions = Vec::new();
     let mut tris = Vec::new();

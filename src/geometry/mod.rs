@@ -10,6 +10,24 @@ pub use sphere::Sphere;
 pub use triangle::Triangle;
 
 use crate::math::{Ray, Vec2, Vec3};
+use glam::Affine3A;
+
+/// The scale factor of a similarity transform, or an error if `m` shears or scales unevenly.
+fn uniform_scale(m: &Affine3A) -> Result<f32, &'static str> {
+    let c = [m.matrix3.x_axis, m.matrix3.y_axis, m.matrix3.z_axis].map(Vec3::from);
+    let s = c[0].length();
+    let tol = 1e-4 * s;
+    let similar = (c[1].length() - s).abs() < tol
+        && (c[2].length() - s).abs() < tol
+        && c[0].dot(c[1]).abs() < tol * s
+        && c[0].dot(c[2]).abs() < tol * s
+        && c[1].dot(c[2]).abs() < tol * s;
+    if s > 0.0 && s.is_finite() && similar {
+        Ok(s)
+    } else {
+        Err("spheres and disks accept only rotation, translation and uniform scale")
+    }
+}
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,6 +118,27 @@ impl Shape {
         }
     }
 
+    /// The shape under an object-to-world transform. Spheres and disks stay analytic, so they
+    /// accept only similarity transforms (rotation, translation, uniform scale); anything else
+    /// is refused with the reason.
+    pub fn transformed(&self, m: &Affine3A) -> Result<Shape, &'static str> {
+        match self {
+            Shape::Triangle(t) => {
+                let [a, b, c] = t.vertices().map(|p| m.transform_point3(p));
+                Ok(Shape::Triangle(Triangle::new(a, b, c)))
+            }
+            Shape::Sphere(s) => Ok(Shape::Sphere(Sphere {
+                center: m.transform_point3(s.center),
+                radius: s.radius * uniform_scale(m)?,
+            })),
+            Shape::Disk(d) => Ok(Shape::Disk(Disk {
+                center: m.transform_point3(d.center),
+                normal: m.transform_vector3(d.normal).normalize(),
+                radius: d.radius * uniform_scale(m)?,
+            })),
+        }
+    }
+
     /// A point uniformly distributed by area on the shape (density 1 / area).
     pub fn sample_area(&self, u: Vec2) -> SurfacePoint {
         match self {
@@ -107,5 +146,46 @@ impl Shape {
             Shape::Sphere(s) => s.sample_area(u),
             Shape::Disk(s) => s.sample_area(u),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Quat;
+
+    #[test]
+    fn similarity_transforms_keep_spheres_and_disks_analytic() {
+        let m = Affine3A::from_scale_rotation_translation(
+            Vec3::splat(2.0),
+            Quat::from_rotation_y(0.7),
+            Vec3::new(1.0, 2.0, 3.0),
+        );
+        let s = Shape::Sphere(Sphere {
+            center: Vec3::X,
+            radius: 0.5,
+        });
+        match s.transformed(&m) {
+            Ok(Shape::Sphere(t)) => {
+                assert!((t.radius - 1.0).abs() < 1e-6);
+                assert!((t.center - m.transform_point3(Vec3::X)).length() < 1e-6);
+            }
+            other => panic!("{other:?}"),
+        }
+        let d = Shape::Disk(Disk {
+            center: Vec3::ZERO,
+            normal: Vec3::Z,
+            radius: 1.0,
+        });
+        let Ok(Shape::Disk(t)) = d.transformed(&m) else {
+            panic!("disk")
+        };
+        assert!((t.area() - 4.0 * d.area()).abs() < 1e-4);
+        assert!((t.normal - Quat::from_rotation_y(0.7) * Vec3::Z).length() < 1e-5);
+        let shear = Affine3A::from_scale(Vec3::new(1.0, 2.0, 1.0));
+        assert!(s.transformed(&shear).is_err());
+        // Triangles accept any affine map.
+        let tri = Shape::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y));
+        assert!((tri.transformed(&shear).expect("affine").area() - 1.0).abs() < 1e-6);
     }
 }

@@ -55,12 +55,29 @@ impl SceneBuilder {
         (self.materials.len() - 1) as u32
     }
 
-    fn object(&mut self, shapes: Vec<Shape>, material: u32, emission: Option<Emission>) {
+    fn push_object(&mut self, shapes: Vec<Shape>, material: u32, emission: Option<Emission>) {
         self.objects.push(Object {
             shapes,
             material,
             emission,
         });
+    }
+
+    /// Any shapes given in object space, placed by `transform` (object to world).
+    pub fn object_transformed(
+        &mut self,
+        shapes: &[Shape],
+        transform: Affine3A,
+        material: u32,
+        emission: Option<Emission>,
+    ) -> Result<&mut Self> {
+        let world = shapes
+            .iter()
+            .map(|s| s.transformed(&transform))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| Error::InvalidScene(format!("object {}: {e}", self.objects.len())))?;
+        self.push_object(world, material, emission);
+        Ok(self)
     }
 
     /// A triangle mesh; `transform` maps object space to world space.
@@ -92,7 +109,7 @@ impl SceneBuilder {
                 shapes.push(Shape::Triangle(tri));
             }
         }
-        self.object(shapes, material, emission);
+        self.push_object(shapes, material, emission);
         Ok(self)
     }
 
@@ -107,7 +124,7 @@ impl SceneBuilder {
         .filter(|t| t.area() > 0.0)
         .map(Shape::Triangle)
         .collect();
-        self.object(shapes, material, emission);
+        self.push_object(shapes, material, emission);
         self
     }
 
@@ -118,7 +135,7 @@ impl SceneBuilder {
         material: u32,
         emission: Option<Emission>,
     ) -> &mut Self {
-        self.object(
+        self.push_object(
             vec![Shape::Sphere(Sphere { center, radius })],
             material,
             emission,
@@ -135,7 +152,7 @@ impl SceneBuilder {
         emission: Option<Emission>,
     ) -> &mut Self {
         let normal = normal.normalize();
-        self.object(
+        self.push_object(
             vec![Shape::Disk(Disk {
                 center,
                 normal,
