@@ -34,6 +34,18 @@ pub enum Error {
 
     #[error("'{path}': {message}")]
     BadImage { path: PathBuf, message: String },
+
+    #[error("'{path}': {message}")]
+    BadPhotonMap { path: PathBuf, message: String },
+
+    #[error(
+        "'{path}' was traced for scene '{traced_for}', which differs from '{scene}' (use --force to use it anyway)"
+    )]
+    PhotonMapSceneMismatch {
+        path: PathBuf,
+        traced_for: String,
+        scene: String,
+    },
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;

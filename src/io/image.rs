@@ -45,16 +45,23 @@ fn unsupported(path: &Path, expected: &'static str) -> Error {
 }
 
 /// Check, before any work is done, that `path` names a format we write and a folder we can
-/// write into. Creates and removes a temporary file to be sure.
+/// write into.
 pub fn check_writable(path: &Path) -> Result<ImageFormat> {
     let format = ImageFormat::from_path(path).ok_or_else(|| unsupported(path, WRITABLE))?;
+    check_writable_path(path)?;
+    Ok(format)
+}
+
+/// Check that a file can be created beside `path` (creates and removes a temporary file), so
+/// a long computation does not end in a failed write.
+pub fn check_writable_path(path: &Path) -> Result<()> {
     let tmp = temp_path(path);
     fs::File::create(&tmp).map_err(|source| Error::Write {
         path: path.to_owned(),
         source,
     })?;
     let _ = fs::remove_file(&tmp);
-    Ok(format)
+    Ok(())
 }
 
 /// The temporary sibling a file is written to before being renamed into place.

@@ -1,7 +1,7 @@
-use super::LightSample;
+use super::{LightSample, PhotonEmission};
 use crate::geometry::Shape;
-use crate::math::{Rgb, Vec2, Vec3};
-use crate::sampling::Distribution1D;
+use crate::math::{Frame, Rgb, Vec2, Vec3};
+use crate::sampling::{Distribution1D, cosine_hemisphere};
 use std::f32::consts::PI;
 
 /// A diffuse (Lambertian) emitter made of one or more shapes with constant radiance.
@@ -46,6 +46,29 @@ impl AreaLight {
         } else {
             Rgb::ZERO
         }
+    }
+
+    /// Uniform point on the area (density 1/A), cosine-weighted direction (density cos θ/π) on
+    /// the emitting side, or on a side chosen at random for two-sided lights: every photon
+    /// carries flux L·cos θ / (cos θ/π · 1/A) = π A L, times two for two-sided lights.
+    pub fn emit(&self, u_pick: f32, u_pos: Vec2, u_dir: Vec2) -> Option<PhotonEmission> {
+        let (i, rest) = self.by_area.sample(u_pick);
+        let s = self.shapes[i].sample_area(u_pos);
+        let (normal, sides) = if self.two_sided {
+            (if rest < 0.5 { s.n } else { -s.n }, 2.0)
+        } else {
+            (s.n, 1.0)
+        };
+        let local = cosine_hemisphere(u_dir);
+        if local.z <= 0.0 {
+            return None;
+        }
+        Some(PhotonEmission {
+            origin: s.p,
+            dir: Frame::from_normal(normal).to_world(local),
+            normal: s.n,
+            flux: self.radiance * (std::f32::consts::PI * self.area * sides),
+        })
     }
 
     /// Uniform point on the light's area, then converted to a solid-angle density at `p`.

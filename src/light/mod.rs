@@ -6,6 +6,7 @@ mod point;
 mod spot;
 
 pub use area::AreaLight;
+
 pub use point::PointLight;
 pub use spot::SpotLight;
 
@@ -26,6 +27,19 @@ pub struct LightSample {
     /// Normal at the sampled point (zero for point and spot lights).
     pub normal: Vec3,
     pub is_delta: bool,
+}
+
+/// A photon leaving a light: where, which way, and the flux it carries (watts per channel)
+/// such that the expected sum over emitted photons is the light's power.
+#[derive(Clone, Copy, Debug)]
+pub struct PhotonEmission {
+    pub origin: Vec3,
+    pub dir: Vec3,
+    /// Surface normal at the origin (zero for point and spot lights), for the ray offset.
+    pub normal: Vec3,
+    /// Flux of this one emitted photon: emitted radiance or intensity divided by the density of
+    /// choosing this origin and direction.
+    pub flux: Rgb,
 }
 
 #[derive(Clone, Debug)]
@@ -51,6 +65,15 @@ impl Light {
             Light::Point(l) => l.sample_li(p),
             Light::Spot(l) => l.sample_li(p),
             Light::Area(l) => l.sample_li(p, u_pick, u),
+        }
+    }
+
+    /// Emit one photon; `u_pick` chooses a shape, `u_pos` a point, `u_dir` a direction.
+    pub fn emit(&self, u_pick: f32, u_pos: Vec2, u_dir: Vec2) -> Option<PhotonEmission> {
+        match self {
+            Light::Point(l) => Some(l.emit(u_dir)),
+            Light::Spot(l) => l.emit(u_dir),
+            Light::Area(l) => l.emit(u_pick, u_pos, u_dir),
         }
     }
 

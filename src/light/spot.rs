@@ -1,5 +1,7 @@
-use super::LightSample;
+use super::{LightSample, PhotonEmission};
+use crate::math::{Frame, Vec2};
 use crate::math::{Rgb, Vec3};
+use crate::sampling::{uniform_cone, uniform_cone_pdf};
 use std::f32::consts::PI;
 
 /// Spot light: intensity `intensity` (W/sr) along `direction`, full inside the cone of
@@ -58,6 +60,20 @@ impl SpotLight {
                 * PI
                 * ((1.0 - self.cos_falloff_start)
                     + 0.5 * (self.cos_falloff_start - self.cos_cutoff)))
+    }
+
+    /// Uniform direction inside the cutoff cone (the original project's cone sampling, with
+    /// spread s = (1 − cos θ_cutoff)/2), flux I(ω)/pdf so the smooth edge is weighted in.
+    pub fn emit(&self, u: Vec2) -> Option<PhotonEmission> {
+        let local = uniform_cone(u, self.cos_cutoff);
+        let dir = Frame::from_normal(self.direction).to_world(local);
+        let k = self.falloff(dir);
+        (k > 0.0).then(|| PhotonEmission {
+            origin: self.position,
+            dir,
+            normal: Vec3::ZERO,
+            flux: self.intensity * (k / uniform_cone_pdf(self.cos_cutoff)),
+        })
     }
 
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {

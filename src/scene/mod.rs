@@ -154,8 +154,49 @@ impl Scene {
         self.bvh.bounds()
     }
 
+    /// A stable 64-bit fingerprint of everything that affects light transport (shapes,
+    /// materials, lights), used to refuse photon maps traced for another scene. FNV-1a over
+    /// the exact (round-trip) text of every value, so it is the same on every machine and run.
+    pub fn content_hash(&self) -> u64 {
+        let mut h = Fnv1a::default();
+        for (i, s) in self.shapes.iter().enumerate() {
+            h.write(format!("{s:?}{}{}", self.prim_material[i], self.prim_light[i]).as_bytes());
+        }
+        for m in &self.materials {
+            h.write(format!("{m:?}").as_bytes());
+        }
+        for l in &self.lights {
+            h.write(format!("{:?}", l.power()).as_bytes());
+            h.write(format!("{l:?}").as_bytes());
+        }
+        h.finish()
+    }
+
     /// Sum of all lights' power, watts per channel.
     pub fn total_power(&self) -> Rgb {
         self.lights.iter().map(Light::power).sum()
+    }
+}
+
+/// 64-bit FNV-1a: simple, stable across platforms and versions.
+#[derive(Clone, Copy, Debug)]
+pub struct Fnv1a(u64);
+
+impl Default for Fnv1a {
+    fn default() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv1a {
+    pub fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+
+    pub fn finish(&self) -> u64 {
+        self.0
     }
 }

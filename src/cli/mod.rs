@@ -1,0 +1,59 @@
+//! Subcommands of the `photon` binary, one file each.
+
+mod compare;
+mod photons;
+mod progress;
+mod render;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use photon::scene::builtin::BUILTINS;
+
+#[derive(Parser)]
+#[command(
+    name = "photon",
+    version,
+    about = "Photon: a photon-mapping global-illumination renderer"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to an image (.png, .exr or .pfm, chosen by the extension).
+    Render(render::RenderArgs),
+    /// Print how far one image is from a reference: RMSE, relMSE and mean ratio per channel.
+    Compare(compare::CompareArgs),
+    /// Photon maps: trace and save them, describe a saved file, export it as a PLY point cloud.
+    Photons {
+        #[command(subcommand)]
+        command: photons::PhotonsCommand,
+    },
+    /// List the built-in scenes.
+    Scenes,
+}
+
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render(args) => render::run(args),
+        Command::Compare(args) => compare::run(&args),
+        Command::Photons { command } => photons::run(command),
+        Command::Scenes => {
+            for b in BUILTINS {
+                println!("{:<14} {}", b.name, b.description);
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Worker pool with `threads` threads (0 or `None`: one per core).
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+    use anyhow::Context;
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .context("cannot start worker threads")
+}

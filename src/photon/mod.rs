@@ -1,0 +1,16 @@
+//! Photon mapping's first pass: photons emitted from the lights, traced through the scene and
+//! stored in kd-tree photon maps (Jensen, "Global Illumination Using Photon Maps", 1996).
+//!
+//! The split follows Tungsten's: a plain [`Photon`] record, a spatial index generic over
+//! anything with a position ([`kdtree`]), a pure [`trace_photons`] and a [`PhotonConfig`].
+//! Photon power is flux in watts and already includes 1/N of the emitted count, so a radiance
+//! estimate is Σ f · Φ / area with no further division.
+
+pub mod kdtree;
+mod map;
+mod record;
+mod trace;
+
+pub use map::{MapKind, PhotonMap};
+pub use record::{Channel, Photon};
+pub use trace::{MAX_PHOTONS, PhotonConfig, PhotonMaps, TraceStats, trace_photons};

@@ -1,0 +1,275 @@
+//! Photon tracing: emission from every light in proportion to its power, and physically based
+//! scattering (Jensen 2001, ch. 5), in parallel and deterministic.
+
+use super::map::{MapKind, PhotonMap};
+use super::record::{Channel, Photon};
+use crate::error::{Error, Result};
+use crate::material::TransportMode;
+use crate::math::{Ray, Rgb, offset_origin};
+use crate::sampling::{Distribution1D, Rng};
+use crate::scene::Scene;
+use rayon::prelude::*;
+
+/// Parameters of one photon trace.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhotonConfig {
+    /// Photons emitted (per channel in per-channel mode).
+    pub photons: u64,
+    /// Maximum number of surface hits of a photon path.
+    pub max_depth: u32,
+    /// Fixed absorption probability at every hit (the original project's `k_a`); `None` for
+    /// Russian roulette on the BSDF's albedo.
+    pub absorption: Option<f32>,
+    /// Three single-channel traces, each bouncing with that channel's reflectance, as the
+    /// original project did; otherwise every photon carries RGB power.
+    pub per_channel: bool,
+    pub seed: u64,
+}
+
+impl Default for PhotonConfig {
+    fn default() -> Self {
+        Self {
+            photons: 1_000_000,
+            max_depth: 64,
+            absorption: None,
+            per_channel: false,
+            seed: 0,
+        }
+    }
+}
+
+/// Largest photon count accepted: 4·10⁹ photons would need ~100 GB.
+pub const MAX_PHOTONS: u64 = 1_000_000_000;
+
+impl PhotonConfig {
+    pub fn validate(&self) -> Result<()> {
+        let bad = |m: String| Err(Error::InvalidSetting(m));
+        if self.photons == 0 || self.photons > MAX_PHOTONS {
+            return bad(format!(
+                "photon count {} must be in 1..={MAX_PHOTONS}",
+                self.photons
+            ));
+        }
+        if self.max_depth == 0 || self.max_depth > 255 {
+            return bad(format!(
+                "maximum depth {} must be in 1..=255",
+                self.max_depth
+            ));
+        }
+        if let Some(p) = self.absorption
+            && !(0.0..1.0).contains(&p)
+        {
+            return bad(format!("absorption probability {p} must be in [0, 1)"));
+        }
+        Ok(())
+    }
+}
+
+/// Counts gathered while tracing.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TraceStats {
+    /// Photon paths started (all channels).
+    pub emitted: u64,
+    /// Stored photons per depth (index = depth), both maps together.
+    pub stored_by_depth: Vec<u64>,
+}
+
+/// The result of a trace: both maps and how they were made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhotonMaps {
+    pub scene_name: String,
+    pub scene_hash: u64,
+    pub config: PhotonConfig,
+    pub caustic: PhotonMap,
+    pub global: PhotonMap,
+    pub stats: TraceStats,
+}
+
+impl PhotonMaps {
+    pub fn map(&self, kind: MapKind) -> &PhotonMap {
+        match kind {
+            MapKind::Caustic => &self.caustic,
+            MapKind::Global => &self.global,
+        }
+    }
+}
+
+/// Photons per parallel work item: small enough to balance, large enough to amortise.
+const CHUNK: u64 = 4096;
+
+struct ChunkOut {
+    caustic: Vec<Photon>,
+    global: Vec<Photon>,
+    by_depth: Vec<u64>,
+}
+
+/// Trace photons through `scene`. Photon `i` of channel `c` uses the random stream keyed by
+/// (seed, c, i), and chunks are concatenated in order: the maps do not depend on thread count.
+/// `progress(done, total)` is called as chunks finish.
+pub fn trace_photons(
+    scene: &Scene,
+    config: &PhotonConfig,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<PhotonMaps> {
+    config.validate()?;
+    let lights = scene.lights();
+    let channels: Vec<Channel> = if config.per_channel {
+        vec![Channel::Red, Channel::Green, Channel::Blue]
+    } else {
+        vec![Channel::Rgb]
+    };
+    // Relative powers are stored against the flux of one emitted photon, so they stay near 1.
+    let total = scene.total_power();
+    let power_scale = total.max_element() / config.photons as f32;
+    if lights.is_empty() || !(power_scale > 0.0) {
+        return Err(Error::InvalidScene(
+            "the scene emits no light, so there are no photons to trace".into(),
+        ));
+    }
+    let chunks_per_channel = config.photons.div_ceil(CHUNK);
+    let total_chunks = chunks_per_channel * channels.len() as u64;
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let mut outs: Vec<ChunkOut> = Vec::new();
+    for (ci, &channel) in channels.iter().enumerate() {
+        let weights: Vec<f64> = lights
+            .iter()
+            .map(|l| {
+                let p = l.power();
+                f64::from(channel.index().map_or(p.x + p.y + p.z, |c| p[c]))
+            })
+            .collect();
+        let Some(choice) = Distribution1D::new(&weights) else {
+            // This channel emits nothing: no photons for it.
+            continue;
+        };
+        let chunk_outs: Vec<ChunkOut> = (0..chunks_per_channel)
+            .into_par_iter()
+            .map(|k| {
+                let start = k * CHUNK;
+                let end = (start + CHUNK).min(config.photons);
+                let mut out = ChunkOut {
+                    caustic: Vec::new(),
+                    global: Vec::new(),
+                    by_depth: vec![0; config.max_depth as usize + 1],
+                };
+                for i in start..end {
+                    let mut rng = Rng::keyed(config.seed, &[ci as u64, i]);
+                    trace_one(
+                        scene,
+                        config,
+                        channel,
+                        &choice,
+                        power_scale,
+                        &mut rng,
+                        &mut out,
+                    );
+                }
+                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress(n, total_chunks);
+                out
+            })
+            .collect();
+        outs.extend(chunk_outs);
+    }
+    let mut caustic = Vec::new();
+    let mut global = Vec::new();
+    let mut stored_by_depth = vec![0u64; config.max_depth as usize + 1];
+    for o in outs {
+        caustic.extend_from_slice(&o.caustic);
+        global.extend_from_slice(&o.global);
+        for (a, b) in stored_by_depth.iter_mut().zip(&o.by_depth) {
+            *a += b;
+        }
+    }
+    let (caustic, global) = rayon::join(
+        || PhotonMap::build(MapKind::Caustic, caustic, power_scale),
+        || PhotonMap::build(MapKind::Global, global, power_scale),
+    );
+    Ok(PhotonMaps {
+        scene_name: scene.name.clone(),
+        scene_hash: scene.content_hash(),
+        config: config.clone(),
+        caustic,
+        global,
+        stats: TraceStats {
+            emitted: config.photons * channels.len() as u64,
+            stored_by_depth,
+        },
+    })
+}
+
+/// Follow one photon from its light until it is absorbed, escapes or reaches the maximum depth.
+fn trace_one(
+    scene: &Scene,
+    config: &PhotonConfig,
+    channel: Channel,
+    choice: &Distribution1D,
+    power_scale: f32,
+    rng: &mut Rng,
+    out: &mut ChunkOut,
+) {
+    let (light_index, _) = choice.sample(rng.next_f32());
+    let pmf = choice.pmf(light_index);
+    let u_pick = rng.next_f32();
+    let (u_pos, u_dir) = (rng.next_2d(), rng.next_2d());
+    let Some(e) = scene.lights()[light_index].emit(u_pick, u_pos, u_dir) else {
+        return;
+    };
+    // Flux relative to power_scale (Φ_max / N): the photon carries Φ_light / (pmf · N).
+    let mut power = e.flux / (pmf * config.photons as f32 * power_scale);
+    if let Some(c) = channel.index() {
+        let mut only = Rgb::ZERO;
+        only[c] = power[c];
+        power = only;
+    }
+    let origin = if e.normal == Rgb::ZERO {
+        e.origin
+    } else {
+        offset_origin(e.origin, e.normal, e.dir)
+    };
+    let mut ray = Ray::new(origin, e.dir);
+    // True while every surface so far was specular (the path is L S* so far).
+    let mut specular_only = true;
+    for depth in 1..=config.max_depth {
+        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
+            return;
+        };
+        let wo = -ray.dir;
+        let material = scene.material(hit.material);
+        if !material.is_specular() {
+            let photon = Photon::new(hit.p, wo, power, depth, channel);
+            if depth > 1 && specular_only {
+                out.caustic.push(photon);
+            } else {
+                out.global.push(photon);
+            }
+            out.by_depth[depth as usize] += 1;
+        }
+        if depth == config.max_depth {
+            return;
+        }
+        let frame = hit.frame(material, wo);
+        let u_lobe = rng.next_f32();
+        let Some(s) = material.sample(
+            frame.to_local(wo),
+            u_lobe,
+            rng.next_2d(),
+            TransportMode::Importance,
+        ) else {
+            return;
+        };
+        // Survival probability: fixed, or the scattered fraction in the channel(s) carried.
+        let survive = match (config.absorption, channel.index()) {
+            (Some(p), _) => 1.0 - p,
+            (None, Some(c)) => s.weight[c].min(1.0),
+            (None, None) => s.weight.max_element().min(1.0),
+        };
+        if survive <= 0.0 || rng.next_f32() >= survive {
+            return;
+        }
+        power *= s.weight / survive;
+        specular_only &= s.specular;
+        let wi = frame.to_world(s.wi);
+        ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+    }
+}
