@@ -168,3 +168,139 @@ fn an_existing_output_survives_a_failed_render() {
         b"precious"
     );
 }
+
+#[test]
+fn photons_trace_info_and_export() {
+    let dir = common::temp_dir("photons");
+    let o = photon(
+        &[
+            "photons",
+            "trace",
+            "cornell",
+            "--photons",
+            "20000",
+            "-q",
+            "-o",
+            "c.phm",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("emitted/s"), "{}", stderr(&o));
+    let o = photon(&["photons", "info", "c.phm"], &dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let info = String::from_utf8_lossy(&o.stdout);
+    for needle in [
+        "scene:       cornell",
+        "20000 photons emitted",
+        "caustic  map:",
+        "global   map:",
+        "per depth:   1: ",
+    ] {
+        assert!(info.contains(needle), "'{needle}' missing from:\n{info}");
+    }
+    for (args, format) in [
+        (
+            vec!["--map", "caustic", "--color", "power"],
+            "binary_little_endian",
+        ),
+        (
+            vec![
+                "--map",
+                "global",
+                "--depth",
+                "2",
+                "--channel",
+                "r",
+                "--ascii",
+            ],
+            "ascii",
+        ),
+        (vec!["--color", "depth"], "binary_little_endian"),
+    ] {
+        let mut all = vec!["photons", "export", "c.phm", "-o", "p.ply"];
+        all.extend(args.iter());
+        let o = photon(&all, &dir);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        let bytes = std::fs::read(dir.join("p.ply")).expect("written");
+        let text = String::from_utf8_lossy(&bytes);
+        assert!(
+            text.starts_with("ply\nformat ") && text.contains(format),
+            "{args:?}"
+        );
+        let n: usize = text
+            .lines()
+            .find_map(|l| l.strip_prefix("element vertex "))
+            .and_then(|n| n.parse().ok())
+            .expect("vertex count");
+        assert!(n > 0, "{args:?}: no photons exported");
+        let header_end = text.find("end_header\n").expect("header") + "end_header\n".len();
+        if format == "ascii" {
+            assert_eq!(text[header_end..].lines().count(), n);
+            // Depth 2 only.
+            assert!(text[header_end..].lines().all(|l| l.ends_with(" 2")));
+        } else {
+            assert_eq!(
+                bytes.len() - header_end,
+                n * 32,
+                "{args:?}: 32 bytes per vertex"
+            );
+        }
+    }
+}
+
+#[test]
+fn photons_bad_input_gives_exit_code_2() {
+    let dir = common::temp_dir("photons-bad");
+    let o = photon(
+        &[
+            "photons",
+            "trace",
+            "cornell",
+            "--photons",
+            "1000",
+            "-q",
+            "-o",
+            "c.txt",
+        ],
+        &dir,
+    );
+    assert_usage_error(&o, "expected a .phm file name");
+    let o = photon(&["photons", "trace", "nosuch", "-q", "-o", "c.phm"], &dir);
+    assert_usage_error(&o, "unknown scene 'nosuch'");
+    let o = photon(
+        &[
+            "photons",
+            "trace",
+            "cornell",
+            "--photons",
+            "0",
+            "-q",
+            "-o",
+            "c.phm",
+        ],
+        &dir,
+    );
+    assert_usage_error(&o, "photon count 0");
+    let o = photon(
+        &[
+            "photons",
+            "trace",
+            "cornell",
+            "--absorption",
+            "1.5",
+            "-q",
+            "-o",
+            "c.phm",
+        ],
+        &dir,
+    );
+    assert_usage_error(&o, "absorption probability 1.5");
+    let o = photon(&["photons", "info", "missing.phm"], &dir);
+    assert_usage_error(&o, "cannot read 'missing.phm'");
+    std::fs::write(dir.join("junk.phm"), b"PHOTONMP junk").expect("write");
+    let o = photon(&["photons", "info", "junk.phm"], &dir);
+    assert_usage_error(&o, "junk.phm");
+    let o = photon(&["photons", "export", "junk.phm", "-o", "x.ply"], &dir);
+    assert_usage_error(&o, "junk.phm");
+}

@@ -121,7 +121,7 @@ pub fn trace_photons(
     // Relative powers are stored against the flux of one emitted photon, so they stay near 1.
     let total = scene.total_power();
     let power_scale = total.max_element() / config.photons as f32;
-    if lights.is_empty() || !(power_scale > 0.0) {
+    if lights.is_empty() || power_scale.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::InvalidScene(
             "the scene emits no light, so there are no photons to trace".into(),
         ));
