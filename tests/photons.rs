@@ -177,7 +177,12 @@ fn kdtree_queries_equal_brute_force() {
     let mut rng = Rng::keyed(9, &[]);
     for (name, points) in sets {
         let mut tree = points.clone();
-        kdtree::build(&mut tree);
+        let index = kdtree::build(&mut tree);
+        assert_eq!(
+            kdtree::KdIndex::from_order(&tree),
+            index,
+            "the saved order rebuilds the same index"
+        );
         for q in 0..300 {
             let c = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 1.2 - 0.1;
             let c = if name == "plane" && q % 2 == 0 {
@@ -192,7 +197,7 @@ fn kdtree_queries_equal_brute_force() {
                 .filter(|&d| d <= r * r)
                 .collect();
             brute.sort_by(f32::total_cmp);
-            let found = kdtree::within(&tree, c, r * r);
+            let found = index.within(&tree, c, r * r);
             assert_eq!(
                 found.iter().map(|x| x.1).collect::<Vec<_>>(),
                 brute,
@@ -202,7 +207,8 @@ fn kdtree_queries_equal_brute_force() {
                 assert_eq!((tree[i].position() - c).length_squared(), d2);
             }
             for k in [1, 8, 50] {
-                let got: Vec<f32> = kdtree::nearest(&tree, c, k, r * r)
+                let got: Vec<f32> = index
+                    .nearest(&tree, c, k, r * r)
                     .iter()
                     .map(|x| x.1)
                     .collect();

@@ -30,25 +30,29 @@ impl MapKind {
 pub struct PhotonMap {
     pub kind: MapKind,
     photons: Vec<Photon>,
+    index: kdtree::KdIndex,
     pub power_scale: f32,
 }
 
 impl PhotonMap {
     /// Build the kd-tree over `photons` (in parallel for large maps).
     pub fn build(kind: MapKind, mut photons: Vec<Photon>, power_scale: f32) -> Self {
-        kdtree::build(&mut photons);
+        let index = kdtree::build(&mut photons);
         Self {
             kind,
             photons,
+            index,
             power_scale,
         }
     }
 
     /// Photons already in kd-tree order (as saved to a file).
     pub fn from_tree_order(kind: MapKind, photons: Vec<Photon>, power_scale: f32) -> Self {
+        let index = kdtree::KdIndex::from_order(&photons);
         Self {
             kind,
             photons,
+            index,
             power_scale,
         }
     }
@@ -91,17 +95,17 @@ impl PhotonMap {
 
     /// Photons within radius `r` of `q`: (index, squared distance), nearest first.
     pub fn within(&self, q: Vec3, r: f32) -> Vec<(usize, f32)> {
-        kdtree::within(&self.photons, q, r * r)
+        self.index.within(&self.photons, q, r * r)
     }
 
     /// Visit photons within radius `r` of `q` without allocating.
     #[inline]
     pub fn for_each_within(&self, q: Vec3, r: f32, f: &mut impl FnMut(usize, f32)) {
-        kdtree::for_each_within(&self.photons, q, r * r, f);
+        self.index.for_each_within(&self.photons, q, r * r, f);
     }
 
     /// The `k` nearest photons within `max_r` of `q`: (index, squared distance), nearest first.
     pub fn nearest(&self, q: Vec3, k: usize, max_r: f32) -> Vec<(usize, f32)> {
-        kdtree::nearest(&self.photons, q, k, max_r * max_r)
+        self.index.nearest(&self.photons, q, k, max_r * max_r)
     }
 }

@@ -6,7 +6,7 @@
 //! | 6 | power, 3 × f16, relative to its map's `power_scale` (so small fluxes stay normal f16) |
 //! | 4 | incoming direction, octahedral 2 × u16 (Cigolle et al., JCGT 2014), error < 0.01° |
 //! | 1 | depth: number of surface hits, 1 for light arriving straight from a light |
-//! | 1 | flags: bits 0–1 kd-tree split axis, bits 2–3 colour channel (0 RGB, 1 R, 2 G, 3 B) |
+//! | 1 | flags: bits 2–3 colour channel (0 RGB, 1 R, 2 G, 3 B); the rest reserved |
 //!
 //! Jensen's original record was 20 bytes with RGBE power; f16 power keeps three independent
 //! channels exact to 0.05%, which the per-channel maps need.
@@ -128,14 +128,6 @@ impl Photon {
     pub fn is_direct(&self) -> bool {
         self.depth == 1
     }
-
-    pub(crate) fn split_axis(&self) -> usize {
-        usize::from(self.flags & 3)
-    }
-
-    pub(crate) fn set_split_axis(&mut self, axis: usize) {
-        self.flags = (self.flags & !3) | (axis as u8 & 3);
-    }
 }
 
 #[cfg(test)]
@@ -148,19 +140,16 @@ mod tests {
         let mut rng = Rng::keyed(1, &[]);
         for _ in 0..10_000 {
             let d = uniform_sphere(rng.next_2d());
-            let power = Rgb::new(rng.next_f32(), rng.next_f32() * 1e-3, 3.0 * rng.next_f32());
-            let mut p = Photon::new(Vec3::new(1.0, -2.0, 3.5), d, power, 7, Channel::Green);
-            p.set_split_axis(2);
+            let power = Rgb::new(rng.next_f32() + 1e-3, (rng.next_f32() + 0.1) * 1e-3, 3.0 * rng.next_f32() + 0.1);
+            let p = Photon::new(Vec3::new(1.0, -2.0, 3.5), d, power, 7, Channel::Green);
             assert!(
-                p.incoming().dot(d) > (0.01f32).to_radians().cos(),
+                // Chord length ≈ angle in radians: under 0.01°.
+                (p.incoming() - d).length() < 0.01f32.to_radians(),
                 "direction error"
             );
             let back = p.relative_power();
             assert!(((back - power).abs() / power.max(Rgb::splat(1e-6))).max_element() < 1e-3);
-            assert_eq!(
-                (p.depth, p.channel(), p.split_axis()),
-                (7, Channel::Green, 2)
-            );
+            assert_eq!((p.depth, p.channel()), (7, Channel::Green));
             assert_eq!(p.position(), Vec3::new(1.0, -2.0, 3.5));
         }
     }
