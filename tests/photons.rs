@@ -152,7 +152,7 @@ fn random_points(n: usize, seed: u64, f: impl Fn(Vec3) -> Vec3) -> Vec<photon::p
     (0..n)
         .map(|_| {
             let p = f(Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()));
-            photon::photon::Photon::new(p, Vec3::Z, Rgb::ONE, 1, Channel::Rgb)
+            photon::photon::Photon::new(p, Vec3::Y, Vec3::Z, Rgb::ONE, 1, Channel::Rgb)
         })
         .collect()
 }

@@ -71,7 +71,7 @@ pub fn save(maps: &PhotonMaps, path: &Path) -> Result<()> {
         caustic_count: maps.caustic.len() as u64,
         global_count: maps.global.len() as u64,
         stored_by_depth: maps.stats.stored_by_depth.clone(),
-        layout: "position f32x3, power f16x3 (x power_scale W), direction octahedral u16x2, depth u8, flags u8".into(),
+        layout: "position f32x3, power f16x3 (x power_scale W), direction octahedral u8x2, normal octahedral u8x2, depth u8, flags u8".into(),
     };
     let json = serde_json::to_vec(&header).map_err(|e| bad(path, e.to_string()))?;
     let mut bytes = Vec::with_capacity(

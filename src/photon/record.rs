@@ -4,12 +4,15 @@
 //! |---|---|
 //! | 12 | position, 3 × f32 |
 //! | 6 | power, 3 × f16, relative to its map's `power_scale` (so small fluxes stay normal f16) |
-//! | 4 | incoming direction, octahedral 2 × u16 (Cigolle et al., JCGT 2014), error < 0.01° |
+//! | 2 | incoming direction, octahedral 2 × u8 (Cigolle et al., JCGT 2014), error < 1° |
+//! | 2 | surface normal on the lit side, octahedral 2 × u8, error < 1° |
 //! | 1 | depth: number of surface hits, 1 for light arriving straight from a light |
 //! | 1 | flags: bits 2–3 colour channel (0 RGB, 1 R, 2 G, 3 B); the rest reserved |
 //!
-//! Jensen's original record was 20 bytes with RGBE power; f16 power keeps three independent
-//! channels exact to 0.05%, which the per-channel maps need.
+//! Jensen's record was 20 bytes with RGBE power and a 2-byte direction; f16 power keeps three
+//! independent channels exact to 0.05%, which the per-channel maps need, and the stored normal
+//! lets estimates reject photons from other surfaces (corners, thin objects) and lets
+//! irradiance be precomputed at photon positions.
 
 use crate::math::{Rgb, Vec2, Vec3};
 use bytemuck::{Pod, Zeroable};
@@ -20,7 +23,8 @@ use half::f16;
 pub struct Photon {
     pub position: [f32; 3],
     power: [u16; 3],
-    direction: [u16; 2],
+    direction: [u8; 2],
+    normal: [u8; 2],
     pub depth: u8,
     flags: u8,
 }
@@ -60,19 +64,20 @@ impl Channel {
     }
 }
 
-fn encode_octahedral(d: Vec3) -> [u16; 2] {
+/// Octahedral encoding of a unit vector into two u8 (Cigolle et al. 2014).
+pub fn encode_octahedral(d: Vec3) -> [u8; 2] {
     let n = d / (d.x.abs() + d.y.abs() + d.z.abs());
     let mut p = Vec2::new(n.x, n.y);
     if n.z < 0.0 {
         let sign = Vec2::new(1.0f32.copysign(p.x), 1.0f32.copysign(p.y));
         p = (Vec2::ONE - Vec2::new(p.y.abs(), p.x.abs())) * sign;
     }
-    let q = |v: f32| ((v.clamp(-1.0, 1.0) * 0.5 + 0.5) * 65535.0).round() as u16;
+    let q = |v: f32| ((v.clamp(-1.0, 1.0) * 0.5 + 0.5) * 255.0).round() as u8;
     [q(p.x), q(p.y)]
 }
 
-fn decode_octahedral(e: [u16; 2]) -> Vec3 {
-    let p = Vec2::new(f32::from(e[0]), f32::from(e[1])) / 65535.0 * 2.0 - Vec2::ONE;
+pub fn decode_octahedral(e: [u8; 2]) -> Vec3 {
+    let p = Vec2::new(f32::from(e[0]), f32::from(e[1])) / 255.0 * 2.0 - Vec2::ONE;
     let z = 1.0 - p.x.abs() - p.y.abs();
     let t = (-z).max(0.0);
     let x = p.x - t.copysign(p.x);
@@ -81,10 +86,12 @@ fn decode_octahedral(e: [u16; 2]) -> Vec3 {
 }
 
 impl Photon {
-    /// A photon at `position` that arrived from direction `incoming` (unit, pointing away from
-    /// the surface toward where the light came from) with flux `power` = `relative` × scale.
+    /// A photon at `position` on a surface with normal `normal` (on the side the photon
+    /// arrived from) that came from direction `incoming` (unit, pointing away from the surface
+    /// toward where the light came from) with flux `relative_power` × the map's scale.
     pub fn new(
         position: Vec3,
+        normal: Vec3,
         incoming: Vec3,
         relative_power: Rgb,
         depth: u32,
@@ -96,6 +103,7 @@ impl Photon {
                 .to_array()
                 .map(|c| f16::from_f32(c).to_bits()),
             direction: encode_octahedral(incoming),
+            normal: encode_octahedral(normal),
             depth: depth.min(255) as u8,
             flags: channel.bits() << 2,
         }
@@ -113,6 +121,11 @@ impl Photon {
     /// Unit direction toward where the photon came from.
     pub fn incoming(&self) -> Vec3 {
         decode_octahedral(self.direction)
+    }
+
+    /// Unit surface normal on the side the photon arrived from.
+    pub fn normal(&self) -> Vec3 {
+        decode_octahedral(self.normal)
     }
 
     pub fn channel(&self) -> Channel {
@@ -140,12 +153,21 @@ mod tests {
         let mut rng = Rng::keyed(1, &[]);
         for _ in 0..10_000 {
             let d = uniform_sphere(rng.next_2d());
-            let power = Rgb::new(rng.next_f32() + 1e-3, (rng.next_f32() + 0.1) * 1e-3, 3.0 * rng.next_f32() + 0.1);
-            let p = Photon::new(Vec3::new(1.0, -2.0, 3.5), d, power, 7, Channel::Green);
+            let power = Rgb::new(
+                rng.next_f32() + 1e-3,
+                (rng.next_f32() + 0.1) * 1e-3,
+                3.0 * rng.next_f32() + 0.1,
+            );
+            let n = uniform_sphere(rng.next_2d());
+            let p = Photon::new(Vec3::new(1.0, -2.0, 3.5), n, d, power, 7, Channel::Green);
+            // Chord length ≈ angle in radians: under 1°.
             assert!(
-                // Chord length ≈ angle in radians: under 0.01°.
-                (p.incoming() - d).length() < 0.01f32.to_radians(),
+                (p.incoming() - d).length() < 1f32.to_radians(),
                 "direction error"
+            );
+            assert!(
+                (p.normal() - n).length() < 1f32.to_radians(),
+                "normal error"
             );
             let back = p.relative_power();
             assert!(((back - power).abs() / power.max(Rgb::splat(1e-6))).max_element() < 1e-3);

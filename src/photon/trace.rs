@@ -236,8 +236,9 @@ fn trace_one(
         };
         let wo = -ray.dir;
         let material = scene.material(hit.material);
+        let frame = hit.frame(material, wo);
         if !material.is_specular() {
-            let photon = Photon::new(hit.p, wo, power, depth, channel);
+            let photon = Photon::new(hit.p, frame.n, wo, power, depth, channel);
             if depth > 1 && specular_only {
                 out.caustic.push(photon);
             } else {
@@ -248,7 +249,6 @@ fn trace_one(
         if depth == config.max_depth {
             return;
         }
-        let frame = hit.frame(material, wo);
         let u_lobe = rng.next_f32();
         let Some(s) = material.sample(
             frame.to_local(wo),
