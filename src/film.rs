@@ -1,7 +1,6 @@
 //! Images in linear radiance, and the pixel filters that decide where samples land.
 
 use crate::math::{Rgb, Vec2};
-use crate::sampling::Rng;
 
 /// A linear RGB image, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,23 +75,80 @@ pub enum PixelFilter {
 }
 
 impl PixelFilter {
-    /// Film position of a sample for pixel (x, y).
-    pub fn sample_position(&self, x: u32, y: u32, rng: &mut Rng) -> Vec2 {
+    /// Film position of a sample for pixel (x, y) from a point `u` of the unit square (ideally
+    /// stratified across the pixel's samples, see [`stratified_2d`]).
+    pub fn sample_position(&self, x: u32, y: u32, u: Vec2) -> Vec2 {
         let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
         match *self {
-            PixelFilter::Box => Vec2::new(x as f32, y as f32) + rng.next_2d(),
+            PixelFilter::Box => Vec2::new(x as f32, y as f32) + u,
             PixelFilter::Gaussian { sigma } => {
-                // Box–Muller, redrawn while outside the 3σ truncation disc (rarely more than once).
-                loop {
-                    let u1 = 1.0 - rng.next_f32();
-                    let u2 = rng.next_f32();
-                    let r = (-2.0 * u1.ln()).sqrt();
-                    if r <= 3.0 {
-                        let phi = std::f32::consts::TAU * u2;
-                        return centre + sigma * r * Vec2::new(phi.cos(), phi.sin());
-                    }
-                }
+                // Box–Muller on the truncated radius: P(r ≤ 3σ) = 1 − e^{−4.5}, so the
+                // remapped u.x keeps the radius inside the 3σ disc without redrawing.
+                let keep = 1.0 - (-4.5f32).exp();
+                let r = (-2.0 * (1.0 - u.x * keep).ln()).sqrt();
+                let phi = std::f32::consts::TAU * u.y;
+                centre + sigma * r * Vec2::new(phi.cos(), phi.sin())
             }
         }
+    }
+}
+
+/// Base-2 radical inverse (van der Corput) of `i`.
+fn radical_inverse_2(i: u32) -> f32 {
+    (i.reverse_bits() >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// Point `i` of `n` stratified over the unit square: a jittered grid when `n` is a square,
+/// otherwise a jittered Hammersley set; `rotation` (per pixel) decorrelates neighbouring pixels
+/// (Cranley–Patterson), `jitter` places the point within its stratum.
+pub fn stratified_2d(i: u32, n: u32, rotation: Vec2, jitter: Vec2) -> Vec2 {
+    let side = (n as f32).sqrt() as u32;
+    let p = if side * side == n {
+        (Vec2::new((i % side) as f32, (i / side) as f32) + jitter) / side as f32
+    } else {
+        Vec2::new(
+            (i as f32 + jitter.x) / n as f32,
+            radical_inverse_2(i) + jitter.y / n as f32,
+        )
+    };
+    (p + rotation).fract()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Rng;
+
+    #[test]
+    fn stratified_points_fill_every_stratum_once() {
+        let mut rng = Rng::keyed(1, &[]);
+        for n in [4u32, 16] {
+            let side = (n as f32).sqrt() as u32;
+            let mut seen = vec![0; n as usize];
+            for i in 0..n {
+                let p = stratified_2d(i, n, Vec2::ZERO, rng.next_2d());
+                let cell = (p.y * side as f32) as u32 * side + (p.x * side as f32) as u32;
+                seen[cell as usize] += 1;
+            }
+            assert!(seen.iter().all(|&c| c == 1), "{n}: {seen:?}");
+        }
+        for i in 0..7 {
+            let p = stratified_2d(i, 7, rng.next_2d(), rng.next_2d());
+            assert!((0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y));
+        }
+    }
+
+    #[test]
+    fn gaussian_filter_stays_within_three_sigma() {
+        let f = PixelFilter::Gaussian { sigma: 0.5 };
+        let mut rng = Rng::keyed(2, &[]);
+        let mut sum = Vec2::ZERO;
+        for _ in 0..10_000 {
+            let p = f.sample_position(10, 20, rng.next_2d());
+            let d = p - Vec2::new(10.5, 20.5);
+            assert!(d.length() <= 1.5 + 1e-4);
+            sum += d;
+        }
+        assert!((sum / 10_000.0).length() < 0.02, "centred");
     }
 }

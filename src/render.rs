@@ -6,9 +6,8 @@
 
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::film::{Image, PixelFilter};
-use crate::integrator::{Integrator, RayStats};
-use crate::math::Rgb;
+use crate::film::{Image, PixelFilter, stratified_2d};
+use crate::integrator::{Integrator, RayStats, Sample};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -17,7 +16,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 const TILE: u32 = 16;
 
 /// The pixels of one finished tile, with the rays it traced.
-type TileResult = (Vec<(u32, u32, Rgb)>, RayStats);
+type TileResult = (Vec<(u32, u32, Sample)>, RayStats);
 
 #[derive(Clone, Debug)]
 pub struct RenderSettings {
@@ -61,8 +60,20 @@ impl RenderSettings {
     }
 }
 
+/// Images beside the beauty image: the photon integrator's split by light path, and the
+/// albedo and normal of the first diffuse surface (as denoisers want them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Aovs {
+    pub direct: Image,
+    pub caustic: Image,
+    pub indirect: Image,
+    pub albedo: Image,
+    pub normal: Image,
+}
+
 pub struct RenderOutput {
     pub image: Image,
+    pub aovs: Aovs,
     pub rays: RayStats,
     pub samples: u64,
 }
@@ -97,16 +108,30 @@ pub fn render(
             (out, stats)
         })
         .collect();
-    let mut image = Image::new(settings.width, settings.height);
+    let blank = Image::new(settings.width, settings.height);
+    let mut image = blank.clone();
+    let mut aovs = Aovs {
+        direct: blank.clone(),
+        caustic: blank.clone(),
+        indirect: blank.clone(),
+        albedo: blank.clone(),
+        normal: blank,
+    };
     let mut rays = RayStats::default();
     for (pixels, stats) in tiles {
         rays.add(&stats);
-        for (x, y, c) in pixels {
-            image.set(x, y, c);
+        for (x, y, s) in pixels {
+            image.set(x, y, s.beauty);
+            aovs.direct.set(x, y, s.direct);
+            aovs.caustic.set(x, y, s.caustic);
+            aovs.indirect.set(x, y, s.indirect);
+            aovs.albedo.set(x, y, s.albedo);
+            aovs.normal.set(x, y, s.normal);
         }
     }
     Ok(RenderOutput {
         image,
+        aovs,
         rays,
         samples: u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.spp),
     })
@@ -120,17 +145,36 @@ fn render_pixel(
     x: u32,
     y: u32,
     stats: &mut RayStats,
-) -> Rgb {
+) -> Sample {
     let pixel = u64::from(y) * u64::from(s.width) + u64::from(x);
-    let mut sum = Rgb::ZERO;
+    let mut sum = Sample::default();
+    let rotation = Rng::keyed(s.seed, &[pixel, u64::MAX]).next_2d();
     for i in 0..s.spp {
         let mut rng = Rng::keyed(s.seed, &[pixel, u64::from(i)]);
-        let ray = camera.ray(s.filter.sample_position(x, y, &mut rng));
-        let l = integrator.radiance(scene, &ray, &mut rng, stats);
+        let u = stratified_2d(i, s.spp, rotation, rng.next_2d());
+        let ray = camera.ray(s.filter.sample_position(x, y, u));
+        let l = integrator.sample(scene, &ray, &mut rng, stats);
         // A NaN or infinity from one sample must not poison the pixel.
-        if l.is_finite() {
-            sum += l;
+        if l.beauty.is_finite()
+            && l.direct.is_finite()
+            && l.caustic.is_finite()
+            && l.indirect.is_finite()
+        {
+            sum.beauty += l.beauty;
+            sum.direct += l.direct;
+            sum.caustic += l.caustic;
+            sum.indirect += l.indirect;
+            sum.albedo += l.albedo;
+            sum.normal += l.normal;
         }
     }
-    sum / s.spp as f32
+    let k = 1.0 / s.spp as f32;
+    Sample {
+        beauty: sum.beauty * k,
+        direct: sum.direct * k,
+        caustic: sum.caustic * k,
+        indirect: sum.indirect * k,
+        albedo: sum.albedo * k,
+        normal: sum.normal.normalize_or_zero(),
+    }
 }

@@ -33,6 +33,9 @@ pub struct TraceArgs {
     /// Photons emitted (per channel with --per-channel).
     #[arg(long, default_value_t = 1_000_000)]
     photons: u64,
+    /// Only the first N paths store into the global map (caustics get all --photons).
+    #[arg(long)]
+    global_photons: Option<u64>,
     /// Maximum number of surface hits per photon path.
     #[arg(long, default_value_t = 64)]
     max_depth: u32,
@@ -122,6 +125,7 @@ fn trace(a: &TraceArgs) -> Result<()> {
     let scene = load(&a.scene)?;
     let config = PhotonConfig {
         photons: a.photons,
+        global_photons: a.global_photons,
         max_depth: a.max_depth,
         absorption: a.absorption,
         per_channel: a.per_channel,

@@ -4,19 +4,62 @@ use super::progress;
 use anyhow::{Result, bail};
 use clap::ValueEnum;
 use photon::film::PixelFilter;
-use photon::integrator::{DirectConfig, Integrator, PathConfig};
-use photon::io::image::{check_writable, write_image};
-use photon::render::{RenderSettings, render};
+use photon::integrator::{DirectConfig, Integrator, PathConfig, PhotonIntegrator, PhotonSettings};
+use photon::io::image::{ImageFormat, aov_path, check_writable, write_exr_layers, write_image};
+use photon::io::phm;
+use photon::photon::{Kernel, PhotonConfig, PhotonMaps, trace_photons};
+use photon::render::{RenderOutput, RenderSettings, render};
+use photon::scene::Scene;
 use photon::scene::builtin::{DEFAULT_SCENE, load};
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant;
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum IntegratorName {
+    /// Two-pass photon mapping: direct light, caustic map, final gathering of the global map.
+    Photon,
     /// Ray-traced direct light with mirror and glass recursion; no indirect diffuse light.
     Direct,
     /// Unidirectional path tracing with NEE and MIS: the reference.
     Path,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum GatherMode {
+    /// Final gathering: rays from each diffuse point read precomputed irradiance.
+    Final,
+    /// Read the global photon map directly (the original project's rendering, done right).
+    None,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum KernelName {
+    Box,
+    Cone,
+    Gaussian,
+    Epanechnikov,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Aov {
+    Direct,
+    Caustic,
+    Indirect,
+    Albedo,
+    Normal,
+}
+
+impl Aov {
+    fn name(self) -> &'static str {
+        match self {
+            Aov::Direct => "direct",
+            Aov::Caustic => "caustic",
+            Aov::Indirect => "indirect",
+            Aov::Albedo => "albedo",
+            Aov::Normal => "normal",
+        }
+    }
 }
 
 #[derive(clap::Args)]
@@ -24,12 +67,13 @@ pub struct RenderArgs {
     /// Built-in scene name (see `photon scenes`).
     #[arg(default_value = DEFAULT_SCENE)]
     scene: String,
-    /// Output image; the extension picks the format (.png, .exr, .pfm).
+    /// Output image; the extension picks the format (.png, .exr, .pfm, or .npy for one
+    /// NumPy array per channel: NAME_r.npy, NAME_g.npy, NAME_b.npy).
     #[arg(short, long, default_value = "render.png")]
     output: PathBuf,
-    #[arg(long, value_enum, default_value = "direct")]
+    #[arg(long, value_enum, default_value = "photon")]
     integrator: IntegratorName,
-    /// Samples per pixel [default: 16 for direct, 64 for path].
+    /// Samples per pixel [default: 8 for photon, 16 for direct, 64 for path].
     #[arg(long)]
     spp: Option<u32>,
     /// Image width in pixels [default: the scene's].
@@ -44,18 +88,58 @@ pub struct RenderArgs {
     /// Worker threads [default: one per core]; the image does not depend on it.
     #[arg(long)]
     threads: Option<usize>,
-    /// Maximum number of bounces [default: 16 for direct, 256 for path].
+    /// Maximum number of bounces [default: 16 for direct and photon, 256 for path].
     #[arg(long)]
     max_depth: Option<u32>,
-    /// Samples per area light at each diffuse hit (direct integrator).
+    /// Samples per area light at each diffuse hit (direct and photon).
     #[arg(long, default_value_t = 4)]
     light_samples: u32,
-    /// Pixel filter: `box` or `gaussian:SIGMA` (SIGMA in pixels).
+    /// Pixel filter: `box`, or `gaussian:SIGMA` (SIGMA in pixels; the original used 0.5).
     #[arg(long, default_value = "box", value_parser = parse_filter)]
     filter: PixelFilter,
     /// Exposure in stops, applied to PNG output only.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
+    /// Extra images: any of direct, caustic, indirect, albedo, normal (comma-separated); layers
+    /// of the EXR output, or files NAME.AOV.EXT for other formats.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    aov: Vec<Aov>,
+    /// Photons for the global map (photon integrator) [default: 250000].
+    #[arg(long)]
+    photons: Option<u64>,
+    /// Photons traced for the caustic map [default: 2000000, at least --photons].
+    #[arg(long)]
+    caustic_photons: Option<u64>,
+    /// Maximum gather radius in scene units [default: 1% (caustic) and 5% (global) of the
+    /// scene's diagonal].
+    #[arg(long)]
+    radius: Option<f32>,
+    /// Photons per estimate [default: 32]; 0 gathers at a fixed radius.
+    #[arg(long)]
+    k: Option<usize>,
+    #[arg(long, value_enum, default_value = "epanechnikov")]
+    kernel: KernelName,
+    /// How indirect light is found: final gathering, or the global map read directly.
+    #[arg(long, value_enum, default_value = "final")]
+    gather: GatherMode,
+    /// Final-gather rays per camera sample [default: 4, so 32 per pixel at 8 spp].
+    #[arg(long)]
+    gather_rays: Option<u32>,
+    /// Weight on the indirect part (1 is physically correct).
+    #[arg(long, default_value_t = 1.0)]
+    indirect_scale: f32,
+    /// Trace red, green and blue photons separately, as the original project did.
+    #[arg(long)]
+    per_channel: bool,
+    /// Fixed photon absorption probability instead of Russian roulette on albedo.
+    #[arg(long)]
+    absorption: Option<f32>,
+    /// Render from a saved photon map (`photon photons trace`) instead of tracing anew.
+    #[arg(long)]
+    photon_map: Option<PathBuf>,
+    /// Use --photon-map even if it was traced for another scene.
+    #[arg(long)]
+    force: bool,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
@@ -74,11 +158,81 @@ fn parse_filter(s: &str) -> Result<PixelFilter, String> {
     Ok(PixelFilter::Gaussian { sigma })
 }
 
+/// Time spent in each phase, for the summary line.
+#[derive(Default)]
+struct Phases {
+    trace: f64,
+    build: f64,
+}
+
 pub fn run(a: RenderArgs) -> Result<()> {
     let scene = load(&a.scene)?;
-    check_writable(&a.output)?;
+    let format = check_writable(&a.output)?;
+    if a.light_samples == 0 {
+        bail!("--light-samples must be at least 1");
+    }
+    if !(a.indirect_scale >= 0.0 && a.indirect_scale.is_finite()) {
+        bail!(
+            "--indirect-scale {} must be a non-negative number",
+            a.indirect_scale
+        );
+    }
+    let component_aovs = a
+        .aov
+        .iter()
+        .any(|x| matches!(x, Aov::Direct | Aov::Caustic | Aov::Indirect));
+    if component_aovs && a.integrator != IntegratorName::Photon {
+        bail!("the direct, caustic and indirect AOVs need --integrator photon");
+    }
     let (default_w, default_h) = scene.default_resolution;
-    let integrator = match a.integrator {
+    let settings = RenderSettings {
+        width: a.width.unwrap_or(default_w),
+        height: a.height.unwrap_or(default_h),
+        spp: a.spp.unwrap_or(match a.integrator {
+            IntegratorName::Photon => 8,
+            IntegratorName::Direct => 16,
+            IntegratorName::Path => 64,
+        }),
+        seed: a.seed,
+        filter: a.filter,
+    };
+    settings.validate()?;
+    let pool = super::thread_pool(a.threads)?;
+    let mut phases = Phases::default();
+    let integrator = pool.install(|| integrator(&a, &scene, &mut phases))?;
+    let bar = progress::bar("rendering", a.quiet);
+    let start = Instant::now();
+    let out = pool.install(|| render(&scene, &integrator, &settings, &progress::callback(&bar)))?;
+    let secs = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    write_outputs(&a, format, &out)?;
+    let m = |x: u64| x as f64 / secs / 1e6;
+    let photon_phases = if let Integrator::Photon(_) = integrator {
+        format!("trace {:.2} s, build {:.2} s, ", phases.trace, phases.build)
+    } else {
+        String::new()
+    };
+    eprintln!(
+        "photon: {} {}×{} {} spp ({}) on {} threads: {photon_phases}render {secs:.2} s, total {:.2} s; {:.2} M samples/s, {:.2} M rays/s (camera {:.2}, bounce {:.2}, shadow {:.2}) → {}",
+        scene.name,
+        settings.width,
+        settings.height,
+        settings.spp,
+        integrator.name(),
+        pool.current_num_threads(),
+        phases.trace + phases.build + secs,
+        m(out.samples),
+        m(out.rays.total()),
+        m(out.rays.camera),
+        m(out.rays.bounce),
+        m(out.rays.shadow),
+        a.output.display()
+    );
+    Ok(())
+}
+
+fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Integrator> {
+    Ok(match a.integrator {
         IntegratorName::Direct => Integrator::Direct(DirectConfig {
             max_depth: a.max_depth.unwrap_or(DirectConfig::default().max_depth),
             light_samples: a.light_samples,
@@ -88,44 +242,92 @@ pub fn run(a: RenderArgs) -> Result<()> {
             max_depth: a.max_depth.unwrap_or(PathConfig::default().max_depth),
             ..PathConfig::default()
         }),
-    };
-    if a.light_samples == 0 {
-        bail!("--light-samples must be at least 1");
-    }
-    let settings = RenderSettings {
-        width: a.width.unwrap_or(default_w),
-        height: a.height.unwrap_or(default_h),
-        spp: a.spp.unwrap_or(match a.integrator {
-            IntegratorName::Direct => 16,
-            IntegratorName::Path => 64,
-        }),
-        seed: a.seed,
-        filter: a.filter,
-    };
-    settings.validate()?;
-    let pool = super::thread_pool(a.threads)?;
-    let bar = progress::bar("rendering", a.quiet);
+        IntegratorName::Photon => {
+            let maps = photon_maps(a, scene, phases)?;
+            let mut s = PhotonSettings::auto(scene.bounds().extent().length());
+            if let Some(d) = a.max_depth {
+                s.max_depth = d;
+            }
+            s.light_samples = a.light_samples;
+            if let Some(r) = a.radius {
+                if !(r > 0.0 && r.is_finite()) {
+                    bail!("--radius {r} must be a positive length");
+                }
+                s.caustic.max_radius = r;
+                s.global.max_radius = r;
+                s.cache_radius = r;
+            }
+            if let Some(k) = a.k {
+                s.caustic.k = k;
+                s.global.k = k;
+            }
+            let kernel = match a.kernel {
+                KernelName::Box => Kernel::Box,
+                KernelName::Cone => Kernel::Cone,
+                KernelName::Gaussian => Kernel::Gaussian,
+                KernelName::Epanechnikov => Kernel::Epanechnikov,
+            };
+            s.caustic.kernel = kernel;
+            s.global.kernel = kernel;
+            s.gather_rays = match a.gather {
+                GatherMode::None => 0,
+                GatherMode::Final => a.gather_rays.unwrap_or(s.gather_rays),
+            };
+            if a.gather == GatherMode::Final && s.gather_rays == 0 {
+                bail!("--gather-rays must be at least 1 (or use --gather none)");
+            }
+            s.indirect_scale = a.indirect_scale;
+            let start = Instant::now();
+            let p = PhotonIntegrator::new(s, Arc::new(maps));
+            phases.build += start.elapsed().as_secs_f64();
+            Integrator::Photon(Box::new(p))
+        }
+    })
+}
+
+fn photon_maps(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<PhotonMaps> {
     let start = Instant::now();
-    let out = pool.install(|| render(&scene, &integrator, &settings, &progress::callback(&bar)))?;
-    let secs = start.elapsed().as_secs_f64();
+    if let Some(path) = &a.photon_map {
+        let maps = phm::load(path)?;
+        phm::check_scene(&maps, path, &scene.name, scene.content_hash(), a.force)?;
+        phases.build += start.elapsed().as_secs_f64();
+        return Ok(maps);
+    }
+    let global = a.photons.unwrap_or(250_000);
+    let caustic = a.caustic_photons.unwrap_or(2_000_000).max(global);
+    let config = PhotonConfig {
+        photons: caustic,
+        global_photons: Some(global),
+        absorption: a.absorption,
+        per_channel: a.per_channel,
+        seed: a.seed,
+        ..PhotonConfig::default()
+    };
+    config.validate()?;
+    let bar = progress::bar("tracing photons", a.quiet);
+    let maps = trace_photons(scene, &config, &progress::callback(&bar))?;
     bar.finish_and_clear();
+    phases.trace = start.elapsed().as_secs_f64();
+    Ok(maps)
+}
+
+fn write_outputs(a: &RenderArgs, format: ImageFormat, out: &RenderOutput) -> Result<()> {
+    let aov_image = |x: Aov| match x {
+        Aov::Direct => &out.aovs.direct,
+        Aov::Caustic => &out.aovs.caustic,
+        Aov::Indirect => &out.aovs.indirect,
+        Aov::Albedo => &out.aovs.albedo,
+        Aov::Normal => &out.aovs.normal,
+    };
+    if format == ImageFormat::Exr && !a.aov.is_empty() {
+        let mut layers = vec![("beauty", &out.image)];
+        layers.extend(a.aov.iter().map(|&x| (x.name(), aov_image(x))));
+        write_exr_layers(&a.output, &layers)?;
+        return Ok(());
+    }
     write_image(&out.image, &a.output, a.exposure)?;
-    let m = |x: u64| x as f64 / secs / 1e6;
-    eprintln!(
-        "photon: {} {}×{} {} spp ({}) in {:.2} s on {} threads: {:.2} M samples/s, {:.2} M rays/s (camera {:.2}, bounce {:.2}, shadow {:.2}) → {}",
-        scene.name,
-        settings.width,
-        settings.height,
-        settings.spp,
-        integrator.name(),
-        secs,
-        pool.current_num_threads(),
-        m(out.samples),
-        m(out.rays.total()),
-        m(out.rays.camera),
-        m(out.rays.bounce),
-        m(out.rays.shadow),
-        a.output.display()
-    );
+    for &x in &a.aov {
+        write_image(aov_image(x), &aov_path(&a.output, x.name()), a.exposure)?;
+    }
     Ok(())
 }

@@ -1,13 +1,16 @@
 //! Integrators: estimate the radiance arriving along a camera ray.
 //!
-//! The closed set: `direct` (ray-traced direct light, the original "SimpleRT" pass done right)
-//! and `path` (the unidirectional reference every later integrator is tested against).
+//! The closed set: `direct` (ray-traced direct light, the original "SimpleRT" pass done right),
+//! `path` (the unidirectional reference every later integrator is tested against) and
+//! `photon` (Jensen's two-pass photon mapping).
 
 mod direct;
 mod path;
+mod photon;
 
 pub use direct::DirectConfig;
 pub use path::PathConfig;
+pub use photon::{PhotonIntegrator, PhotonSettings};
 
 use crate::light::{Light, LightSample};
 use crate::material::Material;
@@ -36,10 +39,33 @@ impl RayStats {
     }
 }
 
+/// What one camera sample brings back. `beauty` is the radiance; the photon integrator also
+/// splits it by light path (`direct + caustic + indirect = beauty`), and every integrator
+/// reports the albedo and shading normal of the first diffuse surface seen (for denoisers).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sample {
+    pub beauty: Rgb,
+    pub direct: Rgb,
+    pub caustic: Rgb,
+    pub indirect: Rgb,
+    pub albedo: Rgb,
+    pub normal: Vec3,
+}
+
+impl Sample {
+    fn beauty_only(beauty: Rgb) -> Self {
+        Self {
+            beauty,
+            ..Self::default()
+        }
+    }
+}
+
 #[derive(Clone, Debug)]
 pub enum Integrator {
     Direct(DirectConfig),
     Path(PathConfig),
+    Photon(Box<PhotonIntegrator>),
 }
 
 impl Integrator {
@@ -47,14 +73,23 @@ impl Integrator {
         match self {
             Integrator::Direct(_) => "direct",
             Integrator::Path(_) => "path",
+            Integrator::Photon(_) => "photon",
         }
     }
 
-    /// Radiance arriving at the camera along `ray`.
-    pub fn radiance(&self, scene: &Scene, ray: &Ray, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
+    /// Whether samples carry the direct / caustic / indirect split.
+    pub fn splits_components(&self) -> bool {
+        matches!(self, Integrator::Photon(_))
+    }
+
+    /// One camera sample along `ray`.
+    pub fn sample(&self, scene: &Scene, ray: &Ray, rng: &mut Rng, stats: &mut RayStats) -> Sample {
         match self {
-            Integrator::Direct(c) => direct::radiance(c, scene, ray, rng, stats),
-            Integrator::Path(c) => path::radiance(c, scene, ray, rng, stats),
+            Integrator::Direct(c) => {
+                Sample::beauty_only(direct::radiance(c, scene, ray, rng, stats))
+            }
+            Integrator::Path(c) => Sample::beauty_only(path::radiance(c, scene, ray, rng, stats)),
+            Integrator::Photon(p) => p.sample(scene, ray, rng, stats),
         }
     }
 }

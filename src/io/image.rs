@@ -16,9 +16,11 @@ pub enum ImageFormat {
     Png,
     Exr,
     Pfm,
+    /// NumPy arrays, one file per channel (`NAME_r.npy`, `NAME_g.npy`, `NAME_b.npy`).
+    Npy,
 }
 
-const WRITABLE: &str = ".png, .exr, .pfm";
+const WRITABLE: &str = ".png, .exr, .pfm, .npy";
 const READABLE: &str = ".exr, .pfm";
 
 impl ImageFormat {
@@ -28,6 +30,7 @@ impl ImageFormat {
             "png" => Some(Self::Png),
             "exr" => Some(Self::Exr),
             "pfm" => Some(Self::Pfm),
+            "npy" => Some(Self::Npy),
             _ => None,
         }
     }
@@ -87,6 +90,25 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
     result
 }
 
+/// `render.npy` → `render_r.npy` (and `_g`, `_b`).
+pub fn npy_channel_path(path: &Path, channel: &str) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+    path.with_file_name(format!("{stem}_{channel}.npy"))
+}
+
+/// `render.png` + `direct` → `render.direct.png`: where an AOV goes when the format has no layers.
+pub fn aov_path(path: &Path, aov: &str) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+    let ext = path
+        .extension()
+        .map_or_else(String::new, |e| format!(".{}", e.to_string_lossy()));
+    path.with_file_name(format!("{stem}.{aov}{ext}"))
+}
+
 /// sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
 pub fn linear_to_srgb(x: f32) -> f32 {
     if x <= 0.003_130_8 {
@@ -103,6 +125,12 @@ pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
         path: path.to_owned(),
         source,
     };
+    if format == ImageFormat::Npy {
+        for (c, suffix) in ["r", "g", "b"].iter().enumerate() {
+            write_npy_channel(image, c, &npy_channel_path(path, suffix))?;
+        }
+        return Ok(());
+    }
     write_atomically(path, |tmp| match format {
         ImageFormat::Png => write_png(image, tmp, exposure).map_err(|e| Error::Write {
             path: path.to_owned(),
@@ -117,6 +145,74 @@ pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
             .map_err(|e| io_err(std::io::Error::other(e)))
         }
         ImageFormat::Pfm => write_pfm(image, tmp).map_err(io_err),
+        ImageFormat::Npy => unreachable!("handled above"),
+    })
+}
+
+/// Write a multi-layer OpenEXR: the first layer (unnamed: plain R, G, B channels, which every
+/// reader shows) is the beauty image, then one named layer per AOV (`direct.R`, …).
+pub fn write_exr_layers(path: &Path, layers: &[(&str, &Image)]) -> Result<()> {
+    use exr::prelude::*;
+    let Some((_, first)) = layers.first() else {
+        return Ok(());
+    };
+    let size = (first.width as usize, first.height as usize);
+    let exr_layers: Vec<Layer<AnyChannels<FlatSamples>>> = layers
+        .iter()
+        .enumerate()
+        .map(|(k, (name, img))| {
+            let channel = |c: usize| FlatSamples::F32(img.pixels.iter().map(|p| p[c]).collect());
+            let channels = AnyChannels::sort(SmallVec::from_vec(vec![
+                AnyChannel::new("R", channel(0)),
+                AnyChannel::new("G", channel(1)),
+                AnyChannel::new("B", channel(2)),
+            ]));
+            let attributes = if k == 0 {
+                LayerAttributes::default()
+            } else {
+                LayerAttributes::named(*name)
+            };
+            Layer::new(size, attributes, Encoding::FAST_LOSSLESS, channels)
+        })
+        .collect();
+    let image = exr::image::Image::from_layers(
+        ImageAttributes::new(IntegerBounds::from_dimensions(size)),
+        exr_layers,
+    );
+    write_atomically(path, |tmp| {
+        image
+            .write()
+            .to_file(tmp)
+            .map_err(|e| crate::error::Error::Write {
+                path: path.to_owned(),
+                source: std::io::Error::other(e),
+            })
+    })
+}
+
+/// NumPy `.npy` (format 1.0) of one channel: a height × width little-endian float32 array, as
+/// the original project saved its per-channel images.
+pub fn write_npy_channel(image: &Image, channel: usize, path: &Path) -> Result<()> {
+    let mut header = format!(
+        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, {}), }}",
+        image.height, image.width
+    );
+    // The header, with magic and length, pads to a multiple of 64 bytes and ends in '\n'.
+    let unpadded = 10 + header.len() + 1;
+    header.push_str(&" ".repeat(unpadded.next_multiple_of(64) - unpadded));
+    header.push('\n');
+    let mut bytes = Vec::with_capacity(10 + header.len() + image.pixels.len() * 4);
+    bytes.extend_from_slice(b"\x93NUMPY\x01\x00");
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    for p in &image.pixels {
+        bytes.extend_from_slice(&p[channel].to_le_bytes());
+    }
+    write_atomically(path, |tmp| {
+        fs::write(tmp, &bytes).map_err(|source| Error::Write {
+            path: path.to_owned(),
+            source,
+        })
     })
 }
 
@@ -188,7 +284,7 @@ pub fn read_image(path: &Path) -> Result<Image> {
                 })?;
             parse_pfm(&data).map_err(bad)
         }
-        ImageFormat::Png => Err(unsupported(path, READABLE)),
+        ImageFormat::Png | ImageFormat::Npy => Err(unsupported(path, READABLE)),
     }
 }
 

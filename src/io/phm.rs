@@ -8,7 +8,7 @@
 //! 16      4     bytes per photon = 24 (layout in photon::Photon's docs)
 //! 20      4     length H of the JSON header
 //! 24      H     JSON header: scene name and content hash, trace parameters and seed, counts,
-//!               power scale, per-depth counts, bounds
+//!               power scale of each map, per-depth counts
 //! 24+H    24·C  caustic photons, kd-tree order
 //! ...     24·G  global photons, kd-tree order
 //! end-8   8     FNV-1a 64 checksum of everything before it
@@ -37,12 +37,15 @@ struct Header {
     scene: String,
     scene_hash: String,
     photons: u64,
+    global_photons: Option<u64>,
     max_depth: u32,
     absorption: Option<f32>,
     per_channel: bool,
     seed: u64,
     emitted: u64,
-    power_scale: f32,
+    global_emitted: u64,
+    caustic_power_scale: f32,
+    global_power_scale: f32,
     caustic_count: u64,
     global_count: u64,
     stored_by_depth: Vec<u64>,
@@ -62,12 +65,15 @@ pub fn save(maps: &PhotonMaps, path: &Path) -> Result<()> {
         scene: maps.scene_name.clone(),
         scene_hash: format!("{:016x}", maps.scene_hash),
         photons: maps.config.photons,
+        global_photons: maps.config.global_photons,
         max_depth: maps.config.max_depth,
         absorption: maps.config.absorption,
         per_channel: maps.config.per_channel,
         seed: maps.config.seed,
         emitted: maps.stats.emitted,
-        power_scale: maps.global.power_scale,
+        global_emitted: maps.stats.global_emitted,
+        caustic_power_scale: maps.caustic.power_scale,
+        global_power_scale: maps.global.power_scale,
         caustic_count: maps.caustic.len() as u64,
         global_count: maps.global.len() as u64,
         stored_by_depth: maps.stats.stored_by_depth.clone(),
@@ -169,15 +175,17 @@ pub fn load(path: &Path) -> Result<PhotonMaps> {
         scene_hash,
         config: PhotonConfig {
             photons: header.photons,
+            global_photons: header.global_photons,
             max_depth: header.max_depth,
             absorption: header.absorption,
             per_channel: header.per_channel,
             seed: header.seed,
         },
-        caustic: PhotonMap::from_tree_order(MapKind::Caustic, caustic, header.power_scale),
-        global: PhotonMap::from_tree_order(MapKind::Global, global, header.power_scale),
+        caustic: PhotonMap::from_tree_order(MapKind::Caustic, caustic, header.caustic_power_scale),
+        global: PhotonMap::from_tree_order(MapKind::Global, global, header.global_power_scale),
         stats: TraceStats {
             emitted: header.emitted,
+            global_emitted: header.global_emitted,
             stored_by_depth: header.stored_by_depth,
         },
     })

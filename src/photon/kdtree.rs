@@ -194,6 +194,64 @@ impl KdIndex {
     }
 }
 
+impl KdIndex {
+    /// The `k` nearest points under a custom metric: `metric(point, euclidean d²)` returns the
+    /// point's distance² (which must be ≥ the Euclidean one, so pruning stays exact) or `None`
+    /// to skip it. Used for disc-shaped searches and normal filters.
+    pub fn nearest_by<T: KdPoint>(
+        &self,
+        points: &[T],
+        q: Vec3,
+        k: usize,
+        max_r2: f32,
+        metric: &impl Fn(&T, f32) -> Option<f32>,
+    ) -> Nearest {
+        let mut best = Nearest::new(k, max_r2);
+        self.nearest_by_range(points, 0, 0, points.len(), q, &mut best, metric);
+        best
+    }
+
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "recursive helper carrying its traversal state"
+    )]
+    fn nearest_by_range<T: KdPoint>(
+        &self,
+        points: &[T],
+        node: usize,
+        lo: usize,
+        hi: usize,
+        q: Vec3,
+        best: &mut Nearest,
+        metric: &impl Fn(&T, f32) -> Option<f32>,
+    ) {
+        if hi - lo <= LEAF {
+            for (i, p) in points[lo..hi].iter().enumerate() {
+                let d2 = (p.position() - q).length_squared();
+                if d2 <= best.r2()
+                    && let Some(m) = metric(p, d2)
+                {
+                    best.offer(m, lo + i);
+                }
+            }
+            return;
+        }
+        let mid = lo + (hi - lo) / 2;
+        let s = self.splits[node];
+        let delta = q[s.axis as usize] - s.value;
+        let (left, right) = ((2 * node + 1, lo, mid), (2 * node + 2, mid, hi));
+        let (near, far) = if delta < 0.0 {
+            (left, right)
+        } else {
+            (right, left)
+        };
+        self.nearest_by_range(points, near.0, near.1, near.2, q, best, metric);
+        if delta * delta <= best.r2() {
+            self.nearest_by_range(points, far.0, far.1, far.2, q, best, metric);
+        }
+    }
+}
+
 fn fill<T: KdPoint>(points: &[T], node: usize, lo: usize, hi: usize, splits: &mut Vec<Split>) {
     if hi - lo <= LEAF {
         return;
@@ -279,6 +337,16 @@ impl Nearest {
                 j = parent;
             }
         }
+    }
+
+    /// Found so far, in heap order: (squared distance, index).
+    pub fn found(&self) -> &[(f32, usize)] {
+        &self.heap
+    }
+
+    /// Whether all k were found (so `r2()` is the k-th distance).
+    pub fn is_full(&self) -> bool {
+        self.heap.len() == self.k
     }
 
     /// Found points as (index, squared distance), nearest first.

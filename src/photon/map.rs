@@ -57,6 +57,10 @@ impl PhotonMap {
         }
     }
 
+    pub fn index(&self) -> &kdtree::KdIndex {
+        &self.index
+    }
+
     pub fn photons(&self) -> &[Photon] {
         &self.photons
     }

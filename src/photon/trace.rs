@@ -13,8 +13,12 @@ use rayon::prelude::*;
 /// Parameters of one photon trace.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhotonConfig {
-    /// Photons emitted (per channel in per-channel mode).
+    /// Photons emitted (per channel in per-channel mode). All of them feed the caustic map.
     pub photons: u64,
+    /// Only the first this-many paths store into the global map (its photons then carry
+    /// Φ / this count): caustics need many more photons than smooth indirect light, and one
+    /// trace serves both. `None`: all paths.
+    pub global_photons: Option<u64>,
     /// Maximum number of surface hits of a photon path.
     pub max_depth: u32,
     /// Fixed absorption probability at every hit (the original project's `k_a`); `None` for
@@ -30,6 +34,7 @@ impl Default for PhotonConfig {
     fn default() -> Self {
         Self {
             photons: 1_000_000,
+            global_photons: None,
             max_depth: 64,
             absorption: None,
             per_channel: false,
@@ -47,6 +52,14 @@ impl PhotonConfig {
         if self.photons == 0 || self.photons > MAX_PHOTONS {
             return bad(format!(
                 "photon count {} must be in 1..={MAX_PHOTONS}",
+                self.photons
+            ));
+        }
+        if let Some(g) = self.global_photons
+            && (g == 0 || g > self.photons)
+        {
+            return bad(format!(
+                "global photon count {g} must be in 1..={} (the photons traced)",
                 self.photons
             ));
         }
@@ -70,6 +83,8 @@ impl PhotonConfig {
 pub struct TraceStats {
     /// Photon paths started (all channels).
     pub emitted: u64,
+    /// Paths that stored into the global map (all channels).
+    pub global_emitted: u64,
     /// Stored photons per depth (index = depth), both maps together.
     pub stored_by_depth: Vec<u64>,
 }
@@ -118,10 +133,11 @@ pub fn trace_photons(
     } else {
         vec![Channel::Rgb]
     };
-    // Relative powers are stored against the flux of one emitted photon, so they stay near 1.
-    let total = scene.total_power();
-    let power_scale = total.max_element() / config.photons as f32;
-    if lights.is_empty() || power_scale.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+    // Relative powers are stored against the brightest channel of the total power, so they
+    // stay near 1; each map's scale divides by the paths that fed it.
+    let total_max = scene.total_power().max_element();
+    let global_photons = config.global_photons.unwrap_or(config.photons);
+    if lights.is_empty() || total_max.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::InvalidScene(
             "the scene emits no light, so there are no photons to trace".into(),
         ));
@@ -154,12 +170,14 @@ pub fn trace_photons(
                 };
                 for i in start..end {
                     let mut rng = Rng::keyed(config.seed, &[ci as u64, i]);
+                    let store_global = i < global_photons;
                     trace_one(
                         scene,
                         config,
                         channel,
                         &choice,
-                        power_scale,
+                        total_max,
+                        store_global,
                         &mut rng,
                         &mut out,
                     );
@@ -182,8 +200,8 @@ pub fn trace_photons(
         }
     }
     let (caustic, global) = rayon::join(
-        || PhotonMap::build(MapKind::Caustic, caustic, power_scale),
-        || PhotonMap::build(MapKind::Global, global, power_scale),
+        || PhotonMap::build(MapKind::Caustic, caustic, total_max / config.photons as f32),
+        || PhotonMap::build(MapKind::Global, global, total_max / global_photons as f32),
     );
     Ok(PhotonMaps {
         scene_name: scene.name.clone(),
@@ -193,18 +211,24 @@ pub fn trace_photons(
         global,
         stats: TraceStats {
             emitted: config.photons * channels.len() as u64,
+            global_emitted: global_photons * channels.len() as u64,
             stored_by_depth,
         },
     })
 }
 
 /// Follow one photon from its light until it is absorbed, escapes or reaches the maximum depth.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the per-photon state of one trace"
+)]
 fn trace_one(
     scene: &Scene,
     config: &PhotonConfig,
     channel: Channel,
     choice: &Distribution1D,
-    power_scale: f32,
+    total_max: f32,
+    store_global: bool,
     rng: &mut Rng,
     out: &mut ChunkOut,
 ) {
@@ -215,8 +239,8 @@ fn trace_one(
     let Some(e) = scene.lights()[light_index].emit(u_pick, u_pos, u_dir) else {
         return;
     };
-    // Flux relative to power_scale (Φ_max / N): the photon carries Φ_light / (pmf · N).
-    let mut power = e.flux / (pmf * config.photons as f32 * power_scale);
+    // The photon carries Φ_light / (pmf · N); stored relative to Φ_max / N.
+    let mut power = e.flux / (pmf * total_max);
     if let Some(c) = channel.index() {
         let mut only = Rgb::ZERO;
         only[c] = power[c];
@@ -241,10 +265,11 @@ fn trace_one(
             let photon = Photon::new(hit.p, frame.n, wo, power, depth, channel);
             if depth > 1 && specular_only {
                 out.caustic.push(photon);
-            } else {
+                out.by_depth[depth as usize] += 1;
+            } else if store_global {
                 out.global.push(photon);
+                out.by_depth[depth as usize] += 1;
             }
-            out.by_depth[depth as usize] += 1;
         }
         if depth == config.max_depth {
             return;
