@@ -114,7 +114,8 @@ pub struct RenderArgs {
     /// scene's diagonal].
     #[arg(long)]
     radius: Option<f32>,
-    /// Photons per estimate [default: 32]; 0 gathers at a fixed radius.
+    /// Photons per estimate [default: 32, or 256 for the global map with --gather none]; 0
+    /// gathers at a fixed radius.
     #[arg(long)]
     k: Option<usize>,
     #[arg(long, value_enum, default_value = "epanechnikov")]
@@ -256,6 +257,9 @@ fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Inte
                 s.caustic.max_radius = r;
                 s.global.max_radius = r;
                 s.cache_radius = r;
+            }
+            if a.gather == GatherMode::None {
+                s.global.k = PhotonSettings::DIRECT_VISUALISATION_K;
             }
             if let Some(k) = a.k {
                 s.caustic.k = k;

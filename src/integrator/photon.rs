@@ -70,6 +70,12 @@ impl PhotonSettings {
     }
 }
 
+impl PhotonSettings {
+    /// Photons per estimate when the global map is read directly (no final gather): its noise
+    /// is seen as is, so it needs many more photons than estimates that a gather averages.
+    pub const DIRECT_VISUALISATION_K: usize = 256;
+}
+
 /// The photon integrator with its maps (and, for final gathering, precomputed irradiance).
 #[derive(Clone, Debug)]
 pub struct PhotonIntegrator {

@@ -97,7 +97,7 @@ pub struct GatherParams {
 const NORMAL_AGREEMENT: f32 = 0.9;
 /// Distance along the normal counts this many times more than distance in the plane: the
 /// search sphere is flattened into a disc of thickness 2r/DISC.
-const DISC: f32 = 8.0;
+const DISC: f32 = 3.0;
 
 /// Distance² in the flattened metric, or `None` if the photon is on another surface.
 #[inline]
