@@ -304,3 +304,165 @@ fn photons_bad_input_gives_exit_code_2() {
     let o = photon(&["photons", "export", "junk.phm", "-o", "x.ply"], &dir);
     assert_usage_error(&o, "junk.phm");
 }
+
+#[test]
+fn photon_render_writes_aov_layers_npy_and_reuses_saved_maps() {
+    let dir = common::temp_dir("photon-render");
+    let small = [
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--spp",
+        "1",
+        "--photons",
+        "20000",
+        "--caustic-photons",
+        "40000",
+        "-q",
+    ];
+    let with = |extra: &[&str]| -> Vec<String> {
+        extra
+            .iter()
+            .chain(small.iter())
+            .map(|s| s.to_string())
+            .collect()
+    };
+    let run =
+        |args: Vec<String>| photon(&args.iter().map(String::as_str).collect::<Vec<_>>(), &dir);
+
+    let o = run(with(&[
+        "render",
+        "cornell",
+        "--integrator",
+        "photon",
+        "-o",
+        "c.exr",
+        "--aov",
+        "direct,caustic,indirect,albedo,normal",
+    ]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("trace")
+            && stderr(&o).contains("build")
+            && stderr(&o).contains("render"),
+        "phase times: {}",
+        stderr(&o)
+    );
+    let meta = exr::meta::MetaData::read_from_file(dir.join("c.exr"), false).expect("EXR");
+    let names: Vec<String> = meta.headers[0]
+        .channels
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    for layer in ["", "direct.", "caustic.", "indirect.", "albedo.", "normal."] {
+        for c in ["R", "G", "B"] {
+            assert!(
+                names.contains(&format!("{layer}{c}")),
+                "{layer}{c} missing from {names:?}"
+            );
+        }
+    }
+    // The beauty (plain R, G, B) is what readers show first: compare reads it.
+    let o = photon(&["compare", "c.exr", "c.exr"], &dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    let o = run(with(&["render", "cornell", "-o", "c.npy"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    for ch in ["r", "g", "b"] {
+        let bytes = std::fs::read(dir.join(format!("c_{ch}.npy"))).expect("npy per channel");
+        assert_eq!(&bytes[..6], b"\x93NUMPY");
+        let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+        let header = String::from_utf8_lossy(&bytes[10..10 + header_len]);
+        assert!(
+            header.contains("'shape': (24, 24)") && header.contains("'<f4'"),
+            "{header}"
+        );
+        assert_eq!((10 + header_len) % 64, 0);
+        assert_eq!(bytes.len(), 10 + header_len + 24 * 24 * 4);
+    }
+
+    let o = run(with(&[
+        "render",
+        "seed",
+        "--gather",
+        "none",
+        "--filter",
+        "gaussian:0.5",
+        "-o",
+        "s.png",
+        "--aov",
+        "caustic",
+    ]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("s.png").exists() && dir.join("s.caustic.png").exists());
+
+    // Saved maps: reused for their scene, refused for another unless --force.
+    let o = photon(
+        &[
+            "photons",
+            "trace",
+            "seed",
+            "--photons",
+            "20000",
+            "-q",
+            "-o",
+            "seed.phm",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(with(&[
+        "render",
+        "seed",
+        "--photon-map",
+        "seed.phm",
+        "-o",
+        "from-map.png",
+    ]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(with(&[
+        "render",
+        "cornell",
+        "--photon-map",
+        "seed.phm",
+        "-o",
+        "wrong.png",
+    ]));
+    assert_usage_error(&o, "traced for scene 'seed'");
+    assert!(!dir.join("wrong.png").exists());
+    let o = run(with(&[
+        "render",
+        "cornell",
+        "--photon-map",
+        "seed.phm",
+        "--force",
+        "-o",
+        "forced.png",
+    ]));
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    let o = run(with(&[
+        "render",
+        "cornell",
+        "--integrator",
+        "path",
+        "--aov",
+        "caustic",
+        "-o",
+        "p.exr",
+    ]));
+    assert_usage_error(&o, "need --integrator photon");
+    let o = run(with(&["render", "cornell", "--radius=0", "-o", "r.png"]));
+    assert_usage_error(&o, "--radius 0");
+    let o = run(with(&[
+        "render",
+        "cornell",
+        "--gather-rays",
+        "0",
+        "-o",
+        "g.png",
+    ]));
+    assert_usage_error(&o, "--gather-rays must be at least 1");
+}

@@ -149,36 +149,34 @@ pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
     })
 }
 
-/// Write a multi-layer OpenEXR: the first layer (unnamed: plain R, G, B channels, which every
-/// reader shows) is the beauty image, then one named layer per AOV (`direct.R`, …).
+/// Write a multi-layer OpenEXR the way Blender and compositors read it: one part whose plain
+/// `R`, `G`, `B` channels hold the first image (the beauty), and `NAME.R`, `NAME.G`, `NAME.B`
+/// for each further image (`direct.R`, …).
 pub fn write_exr_layers(path: &Path, layers: &[(&str, &Image)]) -> Result<()> {
     use exr::prelude::*;
     let Some((_, first)) = layers.first() else {
         return Ok(());
     };
     let size = (first.width as usize, first.height as usize);
-    let exr_layers: Vec<Layer<AnyChannels<FlatSamples>>> = layers
-        .iter()
-        .enumerate()
-        .map(|(k, (name, img))| {
-            let channel = |c: usize| FlatSamples::F32(img.pixels.iter().map(|p| p[c]).collect());
-            let channels = AnyChannels::sort(SmallVec::from_vec(vec![
-                AnyChannel::new("R", channel(0)),
-                AnyChannel::new("G", channel(1)),
-                AnyChannel::new("B", channel(2)),
-            ]));
-            let attributes = if k == 0 {
-                LayerAttributes::default()
+    let mut channels = Vec::new();
+    for (k, (name, img)) in layers.iter().enumerate() {
+        for (c, letter) in ["R", "G", "B"].iter().enumerate() {
+            let full = if k == 0 {
+                (*letter).to_owned()
             } else {
-                LayerAttributes::named(*name)
+                format!("{name}.{letter}")
             };
-            Layer::new(size, attributes, Encoding::FAST_LOSSLESS, channels)
-        })
-        .collect();
-    let image = exr::image::Image::from_layers(
-        ImageAttributes::new(IntegerBounds::from_dimensions(size)),
-        exr_layers,
+            let samples = FlatSamples::F32(img.pixels.iter().map(|p| p[c]).collect());
+            channels.push(AnyChannel::new(full.as_str(), samples));
+        }
+    }
+    let layer = Layer::new(
+        size,
+        LayerAttributes::default(),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(channels)),
     );
+    let image = exr::image::Image::from_layer(layer);
     write_atomically(path, |tmp| {
         image
             .write()
