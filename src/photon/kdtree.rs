@@ -158,39 +158,8 @@ impl KdIndex {
         k: usize,
         max_r2: f32,
     ) -> Vec<(usize, f32)> {
-        let mut best = Nearest::new(k, max_r2);
-        self.nearest_range(points, 0, 0, points.len(), q, &mut best);
-        best.into_sorted()
-    }
-
-    fn nearest_range<T: KdPoint>(
-        &self,
-        points: &[T],
-        node: usize,
-        lo: usize,
-        hi: usize,
-        q: Vec3,
-        best: &mut Nearest,
-    ) {
-        if hi - lo <= LEAF {
-            for (i, p) in points[lo..hi].iter().enumerate() {
-                best.offer((p.position() - q).length_squared(), lo + i);
-            }
-            return;
-        }
-        let mid = lo + (hi - lo) / 2;
-        let s = self.splits[node];
-        let delta = q[s.axis as usize] - s.value;
-        let (left, right) = ((2 * node + 1, lo, mid), (2 * node + 2, mid, hi));
-        let (near, far) = if delta < 0.0 {
-            (left, right)
-        } else {
-            (right, left)
-        };
-        self.nearest_range(points, near.0, near.1, near.2, q, best);
-        if delta * delta <= best.r2() {
-            self.nearest_range(points, far.0, far.1, far.2, q, best);
-        }
+        self.nearest_by(points, q, k, max_r2, &|_, d2| Some(d2))
+            .into_sorted()
     }
 }
 
