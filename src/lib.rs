@@ -14,6 +14,7 @@ pub mod io;
 pub mod light;
 pub mod material;
 pub mod math;
+pub mod modeling;
 pub mod photon;
 pub mod render;
 pub mod sampling;
