@@ -466,3 +466,62 @@ fn photon_render_writes_aov_layers_npy_and_reuses_saved_maps() {
     ]));
     assert_usage_error(&o, "--gather-rays must be at least 1");
 }
+
+#[test]
+fn model_pot_writes_obj_and_ply() {
+    let dir = common::temp_dir("model");
+    let o = photon(&["model", "pot", "-o", "pot.obj"], &dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("triangles"), "{}", stderr(&o));
+    let obj = std::fs::read_to_string(dir.join("pot.obj")).expect("obj");
+    for part in ["o pot", "o soil", "o leaves"] {
+        assert!(obj.lines().any(|l| l == part), "{part} missing");
+    }
+    assert!(
+        obj.lines().filter(|l| l.starts_with("vn ")).count()
+            == obj.lines().filter(|l| l.starts_with("v ")).count()
+    );
+    let o = photon(
+        &[
+            "model",
+            "pot",
+            "-o",
+            "pot.ply",
+            "--subdivisions",
+            "1",
+            "--seed",
+            "3",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let ply = std::fs::read_to_string(dir.join("pot.ply")).expect("ply");
+    let faces: usize = ply
+        .lines()
+        .find_map(|l| l.strip_prefix("element face "))
+        .and_then(|n| n.parse().ok())
+        .expect("faces");
+    let verts: usize = ply
+        .lines()
+        .find_map(|l| l.strip_prefix("element vertex "))
+        .and_then(|n| n.parse().ok())
+        .expect("verts");
+    let body = ply
+        .lines()
+        .skip_while(|l| *l != "end_header")
+        .skip(1)
+        .count();
+    assert_eq!(body, faces + verts);
+    assert_usage_error(
+        &photon(&["model", "pot", "-o", "pot.stl"], &dir),
+        "expected a .obj or .ply",
+    );
+    assert_usage_error(
+        &photon(
+            &["model", "pot", "-o", "p.obj", "--subdivisions", "9"],
+            &dir,
+        ),
+        "too many",
+    );
+    assert_usage_error(&photon(&["model", "vase", "-o", "p.obj"], &dir), "vase");
+}

@@ -302,3 +302,94 @@ fn pot_body_is_watertight_outward_and_where_the_spec_puts_it() {
         "leaves {llo}..{lhi}"
     );
 }
+
+#[test]
+fn the_default_scene_shows_the_pot_lit_with_photon_mapped_indirect_light() {
+    use photon::camera::Camera;
+    use photon::film::PixelFilter;
+    use photon::integrator::{Integrator, PhotonIntegrator, PhotonSettings};
+    use photon::math::Vec3;
+    use photon::photon::{PhotonConfig, trace_photons};
+    use photon::render::{RenderSettings, render};
+    use photon::scene::builtin;
+    use std::sync::Arc;
+
+    let scene = builtin::load("seed").expect("builds");
+    let (w, h) = (48u32, 48u32);
+    let camera = Camera::new(&scene.camera, w, h).expect("camera");
+    // Find the pixel looking at the pot's belly (world (−4, 0.1, 0.4) is its front-facing side).
+    let target = Vec3::new(-4.0, -0.5, 0.4);
+    let mut best = (0u32, 0u32, f32::MAX);
+    for y in 0..h {
+        for x in 0..w {
+            let r = camera.ray(glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+            let d = r.dir.cross(target - r.origin).length() / (target - r.origin).length();
+            if d < best.2 {
+                best = (x, y, d);
+            }
+        }
+    }
+    let (px, py, _) = best;
+    let hit = scene
+        .intersect(
+            &camera.ray(glam::Vec2::new(px as f32 + 0.5, py as f32 + 0.5)),
+            f32::INFINITY,
+        )
+        .expect("sees something");
+    let m = scene.material(hit.material);
+    let albedo = m.albedo(Vec3::Z);
+    assert!(
+        albedo.x > albedo.y && albedo.y > albedo.z,
+        "the pot is terracotta, got {albedo} at pixel ({px},{py})"
+    );
+    // Bottom-left quarter: the pot sits in the front-left corner of the image.
+    assert!(px < w / 2 && py > h / 2, "pot at pixel ({px},{py})");
+
+    let config = PhotonConfig {
+        photons: 200_000,
+        global_photons: Some(50_000),
+        ..PhotonConfig::default()
+    };
+    let maps = trace_photons(&scene, &config, &|_, _| {}).expect("traces");
+    let settings = PhotonSettings::auto(scene.bounds().extent().length());
+    let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(settings, Arc::new(maps))));
+    let s = RenderSettings {
+        width: w,
+        height: h,
+        spp: 4,
+        seed: 1,
+        filter: PixelFilter::Box,
+    };
+    let out = render(&scene, &integrator, &s, &|_, _| {}).expect("renders");
+    // Pot pixels (terracotta albedo): directly lit on the side facing the light, and every one
+    // receiving photon-mapped indirect light (the side facing the camera is in shadow).
+    let pot_pixels: Vec<(u32, u32)> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let a = out.aovs.albedo.get(x, y);
+            (a - glam::Vec3::new(0.62, 0.33, 0.22)).abs().max_element() < 0.02
+        })
+        .collect();
+    assert!(pot_pixels.len() > 20, "{} pot pixels", pot_pixels.len());
+    assert!(pot_pixels.contains(&(px, py)));
+    assert!(
+        pot_pixels
+            .iter()
+            .any(|&(x, y)| out.aovs.direct.get(x, y).x > 0.0),
+        "no direct light on the pot"
+    );
+    assert!(
+        pot_pixels
+            .iter()
+            .all(|&(x, y)| out.aovs.indirect.get(x, y).x > 0.0),
+        "pot pixel without indirect light"
+    );
+    // Leaves are green where they are seen: some pixel above the pot shows leaf albedo.
+    let leaf_seen = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .any(|(x, y)| {
+            let a = out.aovs.albedo.get(x, y);
+            a.y > 2.0 * a.x && a.y > 2.0 * a.z && a.y < 0.45
+        });
+    assert!(leaf_seen, "no leaf visible");
+}

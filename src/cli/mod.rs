@@ -1,6 +1,7 @@
 //! Subcommands of the `photon` binary, one file each.
 
 mod compare;
+mod model;
 mod photons;
 mod progress;
 mod render;
@@ -31,6 +32,8 @@ enum Command {
         #[command(subcommand)]
         command: photons::PhotonsCommand,
     },
+    /// Write a procedural model (the plant pot) as OBJ or PLY.
+    Model(model::ModelArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -40,6 +43,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::run(args),
         Command::Compare(args) => compare::run(&args),
         Command::Photons { command } => photons::run(command),
+        Command::Model(args) => model::run(&args),
         Command::Scenes => {
             for b in BUILTINS {
                 println!("{:<14} {}", b.name, b.description);

@@ -110,6 +110,30 @@ fn leaf(base: DVec3, phi: f64, reach: f64, arch: f64, tip: f64, width: f64) -> N
     }
 }
 
+impl PotModel {
+    /// The soil as a polygon mesh (a 32-sided disc), for export.
+    pub fn soil_mesh(&self) -> PolyMesh {
+        let n = 32;
+        let mut m = PolyMesh::default();
+        for k in 0..n {
+            let a = TAU * f64::from(k) / f64::from(n);
+            m.positions
+                .push(self.soil_center + self.soil_radius * DVec3::new(a.cos(), a.sin(), 0.0));
+        }
+        m.faces.push((0..n).collect());
+        m
+    }
+
+    /// All leaves as one mesh.
+    pub fn leaves_mesh(&self) -> PolyMesh {
+        let mut m = PolyMesh::default();
+        for l in &self.leaves {
+            m.append(l);
+        }
+        m
+    }
+}
+
 /// The whole pot: body, soil and eight leaves (their shapes varied by `seed`).
 pub fn pot(params: &PotParams) -> PotModel {
     let body = pot_body(params.subdivisions);

@@ -101,9 +101,9 @@ pub fn catmull_clark(mesh: &PolyMesh) -> PolyMesh {
             let (a, b) = (f[k % n], f[(k + 1) % n]);
             e_base + edge_index[&(a.min(b), a.max(b))] as u32
         };
-        for k in 0..n {
+        for (k, &corner) in f.iter().enumerate() {
             out.faces.push(vec![
-                f[k],
+                corner,
                 edge_of(k),
                 f_base + fi as u32,
                 edge_of(k + n - 1),

@@ -18,6 +18,8 @@ pub struct Emission {
 
 struct Object {
     shapes: Vec<Shape>,
+    /// Per-vertex shading normals of each triangle (smooth meshes), parallel to `shapes`.
+    normals: Option<Vec<[Vec3; 3]>>,
     material: u32,
     emission: Option<Emission>,
 }
@@ -58,6 +60,7 @@ impl SceneBuilder {
     fn push_object(&mut self, shapes: Vec<Shape>, material: u32, emission: Option<Emission>) {
         self.objects.push(Object {
             shapes,
+            normals: None,
             material,
             emission,
         });
@@ -77,6 +80,54 @@ impl SceneBuilder {
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| Error::InvalidScene(format!("object {}: {e}", self.objects.len())))?;
         self.push_object(world, material, emission);
+        Ok(self)
+    }
+
+    /// A smooth triangle mesh: like [`SceneBuilder::mesh`], with one shading normal per vertex,
+    /// interpolated across each triangle.
+    pub fn smooth_mesh(
+        &mut self,
+        positions: &[Vec3],
+        normals: &[Vec3],
+        triangles: &[[u32; 3]],
+        transform: Affine3A,
+        material: u32,
+    ) -> Result<&mut Self> {
+        if normals.len() != positions.len() {
+            return Err(Error::InvalidScene(format!(
+                "a smooth mesh has {} normals for {} vertices",
+                normals.len(),
+                positions.len()
+            )));
+        }
+        let normal_matrix = transform.matrix3.inverse().transpose();
+        let world_normals: Vec<Vec3> = normals
+            .iter()
+            .map(|&n| Vec3::from(normal_matrix * glam::Vec3A::from(n)).normalize_or_zero())
+            .collect();
+        let before = self.objects.len();
+        self.mesh(positions, triangles, transform, material, None)?;
+        // `mesh` dropped degenerate triangles: keep the normals of the ones it kept.
+        let world: Vec<Vec3> = positions
+            .iter()
+            .map(|&p| transform.transform_point3(p))
+            .collect();
+        let kept: Vec<[Vec3; 3]> = triangles
+            .iter()
+            .filter(|t| {
+                Triangle::new(
+                    world[t[0] as usize],
+                    world[t[1] as usize],
+                    world[t[2] as usize],
+                )
+                .area()
+                    > 0.0
+            })
+            .map(|t| t.map(|i| world_normals[i as usize]))
+            .collect();
+        if let Some(o) = self.objects.get_mut(before) {
+            o.normals = Some(kept);
+        }
         Ok(self)
     }
 
@@ -189,6 +240,8 @@ impl SceneBuilder {
         let mut shapes = Vec::new();
         let mut prim_material = Vec::new();
         let mut prim_light = Vec::new();
+        let mut prim_normals = Vec::new();
+        let mut vertex_normals = Vec::new();
         let mut lights = self.lights;
         for (i, o) in self.objects.into_iter().enumerate() {
             if o.material as usize >= self.materials.len() {
@@ -222,10 +275,17 @@ impl SceneBuilder {
                 }
                 _ => NO_LIGHT,
             };
-            for s in o.shapes {
+            for (k, s) in o.shapes.into_iter().enumerate() {
                 shapes.push(s);
                 prim_material.push(o.material);
                 prim_light.push(light);
+                match o.normals.as_ref().and_then(|n| n.get(k)) {
+                    Some(n) if n.iter().all(|v| v.is_finite() && *v != Vec3::ZERO) => {
+                        vertex_normals.push(*n);
+                        prim_normals.push((vertex_normals.len() - 1) as u32);
+                    }
+                    _ => prim_normals.push(NO_LIGHT),
+                }
             }
         }
         let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
@@ -233,6 +293,7 @@ impl SceneBuilder {
         let reorder = |v: &[u32]| order.iter().map(|&i| v[i as usize]).collect::<Vec<u32>>();
         let prim_material = reorder(&prim_material);
         let prim_light = reorder(&prim_light);
+        let prim_normals = reorder(&prim_normals);
         let shapes = order.iter().map(|&i| shapes[i as usize]).collect();
         let powers: Vec<f64> = lights
             .iter()
@@ -246,6 +307,8 @@ impl SceneBuilder {
             shapes,
             prim_material,
             prim_light,
+            prim_normals,
+            vertex_normals,
             materials: self.materials,
             light_choice: Distribution1D::new(&powers),
             lights,

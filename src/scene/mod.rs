@@ -26,6 +26,9 @@ pub struct Hit {
     pub p: Vec3,
     /// Geometric normal of the primitive as modelled (outward for spheres, winding for triangles).
     pub ng: Vec3,
+    /// Shading normal: interpolated vertex normals on smooth meshes, else `ng`; always on the
+    /// same side as `ng`.
+    pub ns: Vec3,
     pub prim: u32,
     pub material: u32,
     /// Index of the area light this primitive belongs to, or [`NO_LIGHT`].
@@ -37,9 +40,9 @@ impl Hit {
     /// surface): two-sided materials face `wo`; dielectrics keep the outward normal.
     pub fn frame(&self, m: &Material, wo: Vec3) -> Frame {
         let n = if m.is_two_sided() && self.ng.dot(wo) < 0.0 {
-            -self.ng
+            -self.ns
         } else {
-            self.ng
+            self.ns
         };
         Frame::from_normal(n)
     }
@@ -50,6 +53,9 @@ pub struct Scene {
     shapes: Vec<Shape>,
     prim_material: Vec<u32>,
     prim_light: Vec<u32>,
+    /// Index into `vertex_normals` per primitive, or `NO_LIGHT` for flat shading.
+    prim_normals: Vec<u32>,
+    vertex_normals: Vec<[Vec3; 3]>,
     materials: Vec<Material>,
     lights: Vec<Light>,
     light_choice: Option<Distribution1D>,
@@ -77,10 +83,20 @@ impl Scene {
         let _ = t;
         let shape_hit = best?;
         let surface = self.shapes[prim as usize].surface(ray, &shape_hit);
+        let ns = match self.prim_normals[prim as usize] {
+            NO_LIGHT => surface.n,
+            k => {
+                let [n0, n1, n2] = self.vertex_normals[k as usize];
+                let (b1, b2) = (shape_hit.uv.x, shape_hit.uv.y);
+                let n = ((1.0 - b1 - b2) * n0 + b1 * n1 + b2 * n2).normalize_or(surface.n);
+                if n.dot(surface.n) < 0.0 { -n } else { n }
+            }
+        };
         Some(Hit {
             t: shape_hit.t,
             p: surface.p,
             ng: surface.n,
+            ns,
             prim,
             material: self.prim_material[prim as usize],
             light: self.prim_light[prim as usize],

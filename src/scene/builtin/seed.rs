@@ -1,9 +1,12 @@
-//! The original project's scene, per ../shared/seed/SEED-SCENE.md (Z up).
+//! The original project's scene, per ../shared/seed/SEED-SCENE.md (Z up), with the procedural
+//! plant pot in the front-left corner.
 
 use crate::camera::CameraDesc;
 use crate::error::Result;
 use crate::material::{Dielectric, Lambertian, Material, Mirror};
 use crate::math::{Rgb, Vec3};
+use crate::modeling::PolyMesh;
+use crate::modeling::pot::{PotParams, pot};
 use crate::scene::{Emission, Scene, SceneBuilder};
 use std::f32::consts::PI;
 
@@ -112,6 +115,8 @@ pub fn build() -> Result<Scene> {
     b.sphere(v(-1.843823, 1.66519, 2.358279), 0.68959, glass, None);
     b.sphere(v(-3.882164, 3.51001, 3.889405), 0.58298, chrome, None);
 
+    add_pot(&mut b)?;
+
     // Disk light of radius 1 facing down: L = Φ / (π · area).
     let radius = 1.0f32;
     let radiance = LIGHT_POWER / (PI * PI * radius * radius);
@@ -126,4 +131,42 @@ pub fn build() -> Result<Scene> {
         }),
     );
     b.build()
+}
+
+/// Terracotta, potting soil and succulent green: the original used 0.78 grey for all three.
+const TERRACOTTA: [f32; 3] = [0.62, 0.33, 0.22];
+const SOIL: [f32; 3] = [0.10, 0.07, 0.05];
+const LEAF: [f32; 3] = [0.16, 0.38, 0.12];
+
+fn add_smooth(b: &mut SceneBuilder, mesh: &PolyMesh, material: u32) -> Result<()> {
+    let positions: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
+    let normals: Vec<Vec3> = mesh.vertex_normals().iter().map(|n| n.as_vec3()).collect();
+    b.smooth_mesh(
+        &positions,
+        &normals,
+        &mesh.triangles(),
+        glam::Affine3A::IDENTITY,
+        material,
+    )?;
+    Ok(())
+}
+
+/// The pot (lathe, solidify, two Catmull–Clark levels), its soil and eight NURBS leaves.
+fn add_pot(b: &mut SceneBuilder) -> Result<()> {
+    let model = pot(&PotParams::default());
+    let clay = lambert(b, TERRACOTTA[0], TERRACOTTA[1], TERRACOTTA[2]);
+    let soil = lambert(b, SOIL[0], SOIL[1], SOIL[2]);
+    let green = lambert(b, LEAF[0], LEAF[1], LEAF[2]);
+    add_smooth(b, &model.body, clay)?;
+    b.disk(
+        model.soil_center.as_vec3(),
+        Vec3::Z,
+        model.soil_radius as f32,
+        soil,
+        None,
+    );
+    for leaf in &model.leaves {
+        add_smooth(b, leaf, green)?;
+    }
+    Ok(())
 }
