@@ -28,7 +28,35 @@ fn cube() -> PolyMesh {
             vec![2, 3, 7, 6],
             vec![3, 0, 4, 7],
         ],
+        ..PolyMesh::default()
     }
+}
+
+#[test]
+fn creased_edges_stay_sharp() {
+    // Every edge of a cube creased: subdivision keeps every point on the cube's surface.
+    let mut m = cube();
+    let edges: Vec<(u32, u32)> = photon::modeling::mesh::edge_use(&m.faces)
+        .keys()
+        .copied()
+        .collect();
+    m.creases.extend(edges);
+    let fine = photon::modeling::subdivision::subdivide(&m, 3);
+    assert!(fine.is_watertight());
+    for p in &fine.positions {
+        let d = (*p - DVec3::splat(0.5)).abs().max_element();
+        assert!((d - 0.5).abs() < 1e-12, "{p} left the cube's surface");
+    }
+    // One creased edge of an otherwise smooth cube stays a straight line.
+    let mut m = cube();
+    m.creases.insert((0, 1));
+    let fine = photon::modeling::subdivision::subdivide(&m, 3);
+    let on_edge = fine
+        .positions
+        .iter()
+        .filter(|p| p.y.abs() < 1e-12 && p.z.abs() < 1e-12)
+        .count();
+    assert!(on_edge > 4, "{on_edge} points on the creased edge");
 }
 
 #[test]

@@ -8,6 +8,9 @@ use std::collections::HashMap;
 pub struct PolyMesh {
     pub positions: Vec<DVec3>,
     pub faces: Vec<Vec<u32>>,
+    /// Sharp (infinitely creased) edges, as (smaller, larger) vertex index pairs: subdivision
+    /// treats them like boundaries, so they stay sharp.
+    pub creases: std::collections::HashSet<(u32, u32)>,
 }
 
 /// How many faces use each undirected edge.

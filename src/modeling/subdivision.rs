@@ -5,6 +5,8 @@
 //! [vertex points (V), edge points (E), face points (F)], so counts follow
 //! V' = V + E + F, F' = Σ nᶠ, E' = 2E + Σ nᶠ. Boundary edges use the midpoint and boundary
 //! vertices the cubic B-spline curve rule (1/8, 6/8, 1/8), so open surfaces keep their rims.
+//! Creased edges follow the same rules (sharp creases, DeRose et al. 1998 with infinite
+//! sharpness); a vertex on three or more sharp edges is a corner and stays put.
 
 use super::mesh::PolyMesh;
 use glam::DVec3;
@@ -32,11 +34,14 @@ pub fn catmull_clark(mesh: &PolyMesh) -> PolyMesh {
             edges[e].1.push(fi);
         }
     }
+    let sharp =
+        |key: &(u32, u32), faces: &Vec<usize>| faces.len() != 2 || mesh.creases.contains(key);
     let mid = |(a, b): (u32, u32)| 0.5 * (mesh.positions[a as usize] + mesh.positions[b as usize]);
     let edge_points: Vec<DVec3> = edges
         .iter()
-        .map(|&(key, ref faces)| {
-            if faces.len() == 2 {
+        .map(|(key, faces)| {
+            let key = *key;
+            if !sharp(&key, faces) {
                 let (a, b) = key;
                 (mesh.positions[a as usize]
                     + mesh.positions[b as usize]
@@ -57,10 +62,11 @@ pub fn catmull_clark(mesh: &PolyMesh) -> PolyMesh {
     }
     let mut vert_edges = vec![Vec::new(); nv];
     let mut boundary_neighbours = vec![Vec::new(); nv];
-    for &(key, ref faces) in &edges {
+    for (key, faces) in &edges {
+        let key = *key;
         vert_edges[key.0 as usize].push(key);
         vert_edges[key.1 as usize].push(key);
-        if faces.len() != 2 {
+        if sharp(&key, faces) {
             boundary_neighbours[key.0 as usize].push(key.1);
             boundary_neighbours[key.1 as usize].push(key.0);
         }
@@ -73,8 +79,8 @@ pub fn catmull_clark(mesh: &PolyMesh) -> PolyMesh {
                 return 0.75 * p
                     + 0.125 * (mesh.positions[a as usize] + mesh.positions[b as usize]);
             }
-            if !boundary_neighbours[v].is_empty() || vert_faces[v].is_empty() {
-                return p; // Corners and non-manifold spots stay put.
+            if boundary_neighbours[v].len() > 2 || vert_faces[v].is_empty() {
+                return p; // Corners (three or more sharp edges) and loose vertices stay put.
             }
             let n = vert_faces[v].len() as f64;
             let f = vert_faces[v]
@@ -91,8 +97,16 @@ pub fn catmull_clark(mesh: &PolyMesh) -> PolyMesh {
     let f_base = (nv + edges.len()) as u32;
     let mut out = PolyMesh {
         positions: vertex_points,
-        faces: Vec::new(),
+        ..PolyMesh::default()
     };
+    // Each creased edge splits into two creased halves.
+    for &(a, b) in &mesh.creases {
+        if let Some(&e) = edge_index.get(&(a, b)) {
+            let ep = e_base + e as u32;
+            out.creases.insert((a.min(ep), a.max(ep)));
+            out.creases.insert((b.min(ep), b.max(ep)));
+        }
+    }
     out.positions.extend(edge_points);
     out.positions.extend(face_points);
     for (fi, f) in mesh.faces.iter().enumerate() {
