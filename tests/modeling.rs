@@ -47,16 +47,24 @@ fn creased_edges_stay_sharp() {
         let d = (*p - DVec3::splat(0.5)).abs().max_element();
         assert!((d - 0.5).abs() < 1e-12, "{p} left the cube's surface");
     }
-    // One creased edge of an otherwise smooth cube stays a straight line.
+    // A creased loop (the bottom square) on an otherwise smooth cube: the crease is a closed
+    // cubic B-spline of the square, so it stays exactly in the bottom plane, and so does the
+    // whole bottom face inside it (a flat (2³ + 1)² grid after three levels).
     let mut m = cube();
-    m.creases.insert((0, 1));
+    m.creases.extend([(0, 3), (2, 3), (1, 2), (0, 1)]);
     let fine = photon::modeling::subdivision::subdivide(&m, 3);
-    let on_edge = fine
-        .positions
-        .iter()
-        .filter(|p| p.y.abs() < 1e-12 && p.z.abs() < 1e-12)
-        .count();
-    assert!(on_edge > 4, "{on_edge} points on the creased edge");
+    let in_plane = fine.positions.iter().filter(|p| p.z.abs() < 1e-12).count();
+    assert_eq!(in_plane, 81, "the flat bottom");
+    // Without the crease the bottom rounds off: no point stays in the plane.
+    let smooth = photon::modeling::subdivision::subdivide(&cube(), 3);
+    assert_eq!(
+        smooth
+            .positions
+            .iter()
+            .filter(|p| p.z.abs() < 1e-12)
+            .count(),
+        0
+    );
 }
 
 #[test]
