@@ -59,10 +59,16 @@ const PROFILE: [[f64; 2]; 9] = [
 ];
 const LATHE_STEPS: u32 = 16;
 const THICKNESS: f64 = 0.195;
+const HEIGHT_STRETCH: f64 = 1.045;
 
 /// The pot body: lathe → solidify → Catmull–Clark, then scaled and moved onto its spot.
 pub fn pot_body(subdivisions: u32) -> PolyMesh {
-    let profile: Vec<DVec2> = PROFILE.iter().map(|p| DVec2::new(p[0], p[1])).collect();
+    // Heights stretched so that, after subdivision rounds the rim, the height-to-width ratio is
+    // SEED-SCENE.md's (0.973 / 1.374).
+    let profile: Vec<DVec2> = PROFILE
+        .iter()
+        .map(|p| DVec2::new(p[0], p[1] * HEIGHT_STRETCH))
+        .collect();
     let shell = solidify(&lathe(&profile, LATHE_STEPS), THICKNESS);
     let mut body = subdivide(&shell, subdivisions);
     let (lo, hi) = body.bounds();
