@@ -38,6 +38,9 @@ pub enum Error {
     #[error("'{path}': {message}")]
     BadPhotonMap { path: PathBuf, message: String },
 
+    #[error("'{path}': {message}")]
+    BadCheckpoint { path: PathBuf, message: String },
+
     #[error(
         "'{path}' was traced for scene '{traced_for}', which differs from '{scene}' (use --force to use it anyway)"
     )]

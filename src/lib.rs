@@ -16,6 +16,7 @@ pub mod material;
 pub mod math;
 pub mod modeling;
 pub mod photon;
+pub mod progressive;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -65,7 +65,7 @@ fn trace(
 }
 
 /// Light arriving directly from every light, averaged over `light_samples` samples for area lights.
-pub(super) fn direct_light(
+pub(crate) fn direct_light(
     c: &DirectConfig,
     scene: &Scene,
     sp: &ShadingPoint,

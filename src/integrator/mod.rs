@@ -7,10 +7,12 @@
 mod direct;
 mod path;
 mod photon;
+mod visible;
 
 pub use direct::DirectConfig;
 pub use path::PathConfig;
 pub use photon::{PhotonIntegrator, PhotonSettings};
+pub use visible::{CameraPath, VisiblePoint, trace_camera_path};
 
 use crate::light::{Light, LightSample};
 use crate::material::Material;

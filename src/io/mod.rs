@@ -1,6 +1,7 @@
 //! Files: images (PNG, OpenEXR, PFM, NumPy), photon maps (.phm), point clouds and procedural
 //! models (PLY, OBJ), all written atomically.
 
+pub mod checkpoint;
 pub mod image;
 pub mod mesh;
 pub mod phm;

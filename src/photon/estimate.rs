@@ -164,6 +164,37 @@ pub fn radiance(
     l * map.power_scale
 }
 
+/// Reflected radiance at a point from every photon of `map` within the fixed radius `r`
+/// (box kernel, 1/(π r²)) that passes the surface filter: Σ f ΔΦ / (π r²), and how many
+/// photons contributed. The progressive integrators' estimate.
+pub fn radiance_fixed_radius(
+    map: &PhotonMap,
+    p: Vec3,
+    frame: &Frame,
+    wo_local: Vec3,
+    material: &Material,
+    r: f32,
+    skip_direct: bool,
+) -> (Rgb, u32) {
+    let photons = map.photons();
+    let mut sum = Rgb::ZERO;
+    let mut count = 0;
+    let r2 = r * r;
+    map.for_each_within(p, r, &mut |i, d2| {
+        let ph = &photons[i];
+        if skip_direct && ph.is_direct() {
+            return;
+        }
+        if let Some(m) = disc_distance2(ph.position() - p, d2, frame.n, ph.normal())
+            && m <= r2
+        {
+            sum += material.eval(wo_local, frame.to_local(ph.incoming())) * ph.relative_power();
+            count += 1;
+        }
+    });
+    (sum * (map.power_scale / (PI * r2)), count)
+}
+
 /// Irradiance E at `p` on the side of normal `n`: Σ ΔΦ w (watts per m²).
 pub fn irradiance(map: &PhotonMap, p: Vec3, n: Vec3, g: &GatherParams) -> Rgb {
     let mut e = Rgb::ZERO;

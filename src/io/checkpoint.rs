@@ -1,0 +1,215 @@
+//! Progressive-render checkpoints and partial renders (`.checkpoint`, `.part`): everything a
+//! render needs to continue, or to be merged, bit for bit.
+//!
+//! ```text
+//! "PHOTONCK" | version u32 | header length u32 | JSON header (scene, settings, passes)
+//! | per pixel: SPPM 8 × f64 (r², N, τ rgb, direct rgb) or PPM 3 × i64 (fixed-point sums)
+//! | FNV-1a 64 checksum of everything before it
+//! ```
+//! All numbers little-endian; written atomically.
+
+use super::image::write_atomically;
+use crate::error::{Error, Result};
+use crate::progressive::state::SppmPixel;
+use crate::progressive::{Method, ProgressiveConfig, ProgressiveState};
+use crate::scene::Fnv1a;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+const MAGIC: &[u8; 8] = b"PHOTONCK";
+pub const CHECKPOINT_VERSION: u32 = 1;
+const MAX_HEADER: usize = 1 << 20;
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Header {
+    method: String,
+    width: u32,
+    height: u32,
+    seed: u64,
+    alpha: f64,
+    photons_per_pass: u64,
+    initial_radius: Option<f32>,
+    max_depth: u32,
+    light_samples: u32,
+    scene: String,
+    scene_hash: String,
+    first_pass: u64,
+    passes: u64,
+}
+
+fn bad(path: &Path, m: impl Into<String>) -> Error {
+    Error::BadCheckpoint {
+        path: path.to_owned(),
+        message: m.into(),
+    }
+}
+
+pub fn save(state: &ProgressiveState, path: &Path) -> Result<()> {
+    let c = &state.config;
+    let header = Header {
+        method: c.method.name().into(),
+        width: c.width,
+        height: c.height,
+        seed: c.seed,
+        alpha: c.alpha,
+        photons_per_pass: c.photons_per_pass,
+        initial_radius: c.initial_radius,
+        max_depth: c.max_depth,
+        light_samples: c.light_samples,
+        scene: state.scene_name.clone(),
+        scene_hash: format!("{:016x}", state.scene_hash),
+        first_pass: state.first_pass,
+        passes: state.passes,
+    };
+    let json = serde_json::to_vec(&header).map_err(|e| bad(path, e.to_string()))?;
+    let mut bytes = Vec::new();
+    bytes.extend_from_slice(MAGIC);
+    bytes.extend_from_slice(&CHECKPOINT_VERSION.to_le_bytes());
+    bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(&json);
+    match c.method {
+        Method::Sppm => {
+            for p in &state.sppm {
+                for v in [
+                    p.r2,
+                    p.n,
+                    p.tau[0],
+                    p.tau[1],
+                    p.tau[2],
+                    p.direct[0],
+                    p.direct[1],
+                    p.direct[2],
+                ] {
+                    bytes.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+        Method::Ppm => {
+            for p in &state.ppm {
+                for v in p {
+                    bytes.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+    }
+    let mut h = Fnv1a::default();
+    h.write(&bytes);
+    bytes.extend_from_slice(&h.finish().to_le_bytes());
+    write_atomically(path, |tmp| {
+        std::fs::write(tmp, &bytes).map_err(|source| Error::Write {
+            path: path.to_owned(),
+            source,
+        })
+    })
+}
+
+pub fn load(path: &Path) -> Result<ProgressiveState> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    if bytes.len() < 24 || &bytes[..8] != MAGIC {
+        return Err(bad(path, "not a Photon checkpoint (bad magic number)"));
+    }
+    let u32_at =
+        |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
+    let version = u32_at(8);
+    if version != CHECKPOINT_VERSION {
+        return Err(bad(
+            path,
+            format!("checkpoint version {version}; this Photon reads {CHECKPOINT_VERSION}"),
+        ));
+    }
+    let (body, tail) = bytes.split_at(bytes.len() - 8);
+    let mut h = Fnv1a::default();
+    h.write(body);
+    if h.finish() != u64::from_le_bytes(tail.try_into().expect("8 bytes")) {
+        return Err(bad(
+            path,
+            "checksum mismatch: the checkpoint is truncated or corrupted",
+        ));
+    }
+    let header_len = u32_at(12) as usize;
+    if header_len > MAX_HEADER || 16 + header_len > body.len() {
+        return Err(bad(path, "truncated header"));
+    }
+    let hd: Header = serde_json::from_slice(&body[16..16 + header_len])
+        .map_err(|e| bad(path, format!("unreadable header: {e}")))?;
+    let method = match hd.method.as_str() {
+        "sppm" => Method::Sppm,
+        "ppm" => Method::Ppm,
+        m => return Err(bad(path, format!("unknown method '{m}'"))),
+    };
+    let pixels = hd.width as usize * hd.height as usize;
+    let per_pixel = match method {
+        Method::Sppm => 64,
+        Method::Ppm => 24,
+    };
+    let data = &body[16 + header_len..];
+    if Some(data.len()) != pixels.checked_mul(per_pixel) {
+        return Err(bad(
+            path,
+            format!(
+                "{} bytes of pixel data for {}×{} pixels",
+                data.len(),
+                hd.width,
+                hd.height
+            ),
+        ));
+    }
+    let scene_hash =
+        u64::from_str_radix(&hd.scene_hash, 16).map_err(|_| bad(path, "bad scene hash"))?;
+    let config = ProgressiveConfig {
+        method,
+        width: hd.width,
+        height: hd.height,
+        seed: hd.seed,
+        alpha: hd.alpha,
+        photons_per_pass: hd.photons_per_pass,
+        initial_radius: hd.initial_radius,
+        max_depth: hd.max_depth,
+        light_samples: hd.light_samples,
+    };
+    config.validate().map_err(|e| bad(path, e.to_string()))?;
+    let f64_at = |at: usize| f64::from_le_bytes(data[at..at + 8].try_into().expect("8 bytes"));
+    let mut state = ProgressiveState {
+        config,
+        scene_name: hd.scene,
+        scene_hash,
+        first_pass: hd.first_pass,
+        passes: hd.passes,
+        sppm: Vec::new(),
+        ppm: Vec::new(),
+    };
+    match method {
+        Method::Sppm => {
+            state.sppm = (0..pixels)
+                .map(|i| {
+                    let v = |k: usize| f64_at(i * 64 + k * 8);
+                    SppmPixel {
+                        r2: v(0),
+                        n: v(1),
+                        tau: [v(2), v(3), v(4)],
+                        direct: [v(5), v(6), v(7)],
+                    }
+                })
+                .collect();
+        }
+        Method::Ppm => {
+            state.ppm = (0..pixels)
+                .map(|i| {
+                    let v = |k: usize| {
+                        i64::from_le_bytes(
+                            data[i * 24 + k * 8..i * 24 + k * 8 + 8]
+                                .try_into()
+                                .expect("8"),
+                        )
+                    };
+                    [v(0), v(1), v(2)]
+                })
+                .collect();
+        }
+    }
+    Ok(state)
+}
