@@ -4,6 +4,7 @@ mod compare;
 mod model;
 mod photons;
 mod progress;
+mod progressive;
 mod render;
 
 use anyhow::Result;
@@ -32,6 +33,8 @@ enum Command {
         #[command(subcommand)]
         command: photons::PhotonsCommand,
     },
+    /// Merge partial progressive renders (`--integrator ppm --pass-range a..b`) into one image.
+    Merge(progressive::MergeArgs),
     /// Write a procedural model (the plant pot) as OBJ or PLY.
     Model(model::ModelArgs),
     /// List the built-in scenes.
@@ -44,6 +47,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Compare(args) => compare::run(&args),
         Command::Photons { command } => photons::run(command),
         Command::Model(args) => model::run(&args),
+        Command::Merge(args) => progressive::merge(&args),
         Command::Scenes => {
             for b in BUILTINS {
                 println!("{:<14} {}", b.name, b.description);

@@ -1,6 +1,6 @@
 //! `photon render`.
 
-use super::progress;
+use super::{progress, progressive};
 use anyhow::{Result, bail};
 use clap::ValueEnum;
 use photon::film::PixelFilter;
@@ -8,6 +8,7 @@ use photon::integrator::{DirectConfig, Integrator, PathConfig, PhotonIntegrator,
 use photon::io::image::{ImageFormat, aov_path, check_writable, write_exr_layers, write_image};
 use photon::io::phm;
 use photon::photon::{Kernel, PhotonConfig, PhotonMaps, trace_photons};
+use photon::progressive::{Method, ProgressiveConfig, ProgressiveState};
 use photon::render::{RenderOutput, RenderSettings, render};
 use photon::scene::Scene;
 use photon::scene::builtin::{DEFAULT_SCENE, load};
@@ -23,6 +24,10 @@ enum IntegratorName {
     Direct,
     /// Unidirectional path tracing with NEE and MIS: the reference.
     Path,
+    /// Stochastic progressive photon mapping (Hachisuka & Jensen 2009): converges to the exact image.
+    Sppm,
+    /// Probabilistic progressive photon mapping (Knaus & Zwicker 2011): independent passes.
+    Ppm,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -67,10 +72,11 @@ pub struct RenderArgs {
     /// Built-in scene name (see `photon scenes`).
     #[arg(default_value = DEFAULT_SCENE)]
     scene: String,
-    /// Output image; the extension picks the format (.png, .exr, .pfm, or .npy for one
-    /// NumPy array per channel: NAME_r.npy, NAME_g.npy, NAME_b.npy).
-    #[arg(short, long, default_value = "render.png")]
-    output: PathBuf,
+    /// Output image [default: render.png]; the extension picks the format (.png, .exr, .pfm,
+    /// or .npy for one NumPy array per channel: NAME_r.npy, NAME_g.npy, NAME_b.npy). With
+    /// --pass-range, the partial render file (.part).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
     #[arg(long, value_enum, default_value = "photon")]
     integrator: IntegratorName,
     /// Samples per pixel [default: 8 for photon, 16 for direct, 64 for path].
@@ -141,9 +147,50 @@ pub struct RenderArgs {
     /// Use --photon-map even if it was traced for another scene.
     #[arg(long)]
     force: bool,
+    /// Progressive (sppm, ppm): stop after this many passes.
+    #[arg(long)]
+    passes: Option<u64>,
+    /// Progressive: stop after this many seconds (the image of the passes done by then).
+    #[arg(long)]
+    time: Option<f64>,
+    /// Progressive: photons traced per pass.
+    #[arg(long, default_value_t = 100_000)]
+    photons_per_pass: u64,
+    /// Progressive: radius reduction α in (0, 1).
+    #[arg(long, default_value_t = 2.0 / 3.0)]
+    alpha: f64,
+    /// Progressive: write the image after passes 1, 2, 4, 8, … (and at least every minute) as
+    /// NAME.passNNNNN.EXT.
+    #[arg(long)]
+    snapshots: bool,
+    /// Progressive: checkpoint file [default: the output with extension .checkpoint].
+    #[arg(long)]
+    checkpoint: Option<PathBuf>,
+    /// Continue a progressive render from its checkpoint (with --passes or --time to extend it).
+    #[arg(long)]
+    resume: Option<PathBuf>,
+    /// ppm: render only passes a..b (end exclusive) into a partial file for `photon merge`.
+    #[arg(long, value_parser = parse_range)]
+    pass_range: Option<(u64, u64)>,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
+}
+
+fn parse_range(s: &str) -> Result<(u64, u64), String> {
+    let (a, b) = s
+        .split_once("..")
+        .ok_or_else(|| format!("'{s}' is not a range; expected a..b such as 0..64"))?;
+    let parse = |t: &str| {
+        t.trim()
+            .parse::<u64>()
+            .map_err(|_| format!("'{t}' in '{s}' is not a pass number"))
+    };
+    let (a, b) = (parse(a)?, parse(b)?);
+    if a >= b {
+        return Err(format!("the range {a}..{b} is empty"));
+    }
+    Ok((a, b))
 }
 
 fn parse_filter(s: &str) -> Result<PixelFilter, String> {
@@ -167,8 +214,31 @@ struct Phases {
 }
 
 pub fn run(a: RenderArgs) -> Result<()> {
+    let budget = progressive::Budget {
+        passes: a.passes,
+        seconds: a.time,
+    };
+    if let Some(s) = a.time
+        && !(s > 0.0 && s.is_finite())
+    {
+        bail!("--time {s} must be a positive number of seconds");
+    }
+    if let Some(cp) = &a.resume {
+        let pool = super::thread_pool(a.threads)?;
+        return progressive::resume(cp, budget, a.output.as_deref(), a.quiet, &pool);
+    }
     let scene = load(&a.scene)?;
-    let format = check_writable(&a.output)?;
+    if matches!(a.integrator, IntegratorName::Sppm | IntegratorName::Ppm) {
+        return run_progressive(&a, &scene, budget);
+    }
+    if a.pass_range.is_some() || a.passes.is_some() || a.time.is_some() {
+        bail!("--passes, --time and --pass-range are for --integrator sppm or ppm");
+    }
+    let output = a
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("render.png"));
+    let format = check_writable(&output)?;
     if a.light_samples == 0 {
         bail!("--light-samples must be at least 1");
     }
@@ -193,6 +263,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             IntegratorName::Photon => 8,
             IntegratorName::Direct => 16,
             IntegratorName::Path => 64,
+            IntegratorName::Sppm | IntegratorName::Ppm => 1,
         }),
         seed: a.seed,
         filter: a.filter,
@@ -206,7 +277,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let out = pool.install(|| render(&scene, &integrator, &settings, &progress::callback(&bar)))?;
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    write_outputs(&a, format, &out)?;
+    write_outputs(&a, &output, format, &out)?;
     let m = |x: u64| x as f64 / secs / 1e6;
     let photon_phases = if let Integrator::Photon(_) = integrator {
         format!("trace {:.2} s, build {:.2} s, ", phases.trace, phases.build)
@@ -227,9 +298,74 @@ pub fn run(a: RenderArgs) -> Result<()> {
         m(out.rays.camera),
         m(out.rays.bounce),
         m(out.rays.shadow),
-        a.output.display()
+        output.display()
     );
     Ok(())
+}
+
+fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -> Result<()> {
+    let method = match a.integrator {
+        IntegratorName::Sppm => Method::Sppm,
+        _ => Method::Ppm,
+    };
+    if !a.aov.is_empty() {
+        bail!("--aov is for --integrator photon");
+    }
+    let (w, h) = scene.default_resolution;
+    let config = ProgressiveConfig {
+        method,
+        width: a.width.unwrap_or(w),
+        height: a.height.unwrap_or(h),
+        seed: a.seed,
+        alpha: a.alpha,
+        photons_per_pass: a.photons_per_pass,
+        initial_radius: a.radius,
+        max_depth: a.max_depth.unwrap_or(16),
+        light_samples: a.light_samples,
+    };
+    let (first, budget, partial) = match a.pass_range {
+        Some(_) if method != Method::Ppm => {
+            bail!("--pass-range needs --integrator ppm (sppm passes depend on each other)")
+        }
+        Some((start, end)) => (
+            start,
+            progressive::Budget {
+                passes: Some(end),
+                seconds: None,
+            },
+            true,
+        ),
+        None => (0, budget, false),
+    };
+    let output = a
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(if partial { "render.part" } else { "render.png" }));
+    if partial {
+        if output.extension().and_then(|e| e.to_str()) != Some("part") {
+            bail!(
+                "'{}': a partial render is written to a .part file",
+                output.display()
+            );
+        }
+        photon::io::image::check_writable_path(&output)?;
+    } else {
+        check_writable(&output)?;
+    }
+    let state = ProgressiveState::new(scene, config, first)?;
+    let pool = super::thread_pool(a.threads)?;
+    let outputs = progressive::Outputs {
+        checkpoint: a
+            .checkpoint
+            .clone()
+            .unwrap_or_else(|| progressive::default_checkpoint(&output)),
+        image: output,
+        snapshots: a.snapshots,
+        exposure: a.exposure,
+        quiet: a.quiet,
+        partial,
+    };
+    progressive::run(scene, state, budget, &outputs, &pool)
 }
 
 fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Integrator> {
@@ -243,6 +379,9 @@ fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Inte
             max_depth: a.max_depth.unwrap_or(PathConfig::default().max_depth),
             ..PathConfig::default()
         }),
+        IntegratorName::Sppm | IntegratorName::Ppm => {
+            unreachable!("progressive integrators run apart")
+        }
         IntegratorName::Photon => {
             let maps = photon_maps(a, scene, phases)?;
             let mut s = PhotonSettings::auto(scene.bounds().extent().length());
@@ -315,7 +454,12 @@ fn photon_maps(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Pho
     Ok(maps)
 }
 
-fn write_outputs(a: &RenderArgs, format: ImageFormat, out: &RenderOutput) -> Result<()> {
+fn write_outputs(
+    a: &RenderArgs,
+    output: &std::path::Path,
+    format: ImageFormat,
+    out: &RenderOutput,
+) -> Result<()> {
     let aov_image = |x: Aov| match x {
         Aov::Direct => &out.aovs.direct,
         Aov::Caustic => &out.aovs.caustic,
@@ -326,12 +470,12 @@ fn write_outputs(a: &RenderArgs, format: ImageFormat, out: &RenderOutput) -> Res
     if format == ImageFormat::Exr && !a.aov.is_empty() {
         let mut layers = vec![("beauty", &out.image)];
         layers.extend(a.aov.iter().map(|&x| (x.name(), aov_image(x))));
-        write_exr_layers(&a.output, &layers)?;
+        write_exr_layers(output, &layers)?;
         return Ok(());
     }
-    write_image(&out.image, &a.output, a.exposure)?;
+    write_image(&out.image, output, a.exposure)?;
     for &x in &a.aov {
-        write_image(aov_image(x), &aov_path(&a.output, x.name()), a.exposure)?;
+        write_image(aov_image(x), &aov_path(output, x.name()), a.exposure)?;
     }
     Ok(())
 }

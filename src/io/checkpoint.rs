@@ -36,6 +36,17 @@ struct Header {
     scene_hash: String,
     first_pass: u64,
     passes: u64,
+    #[serde(default)]
+    output: Option<String>,
+    #[serde(default)]
+    target_passes: Option<u64>,
+}
+
+/// How the run that wrote a checkpoint was set up, so `--resume` can carry on alone.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RunInfo {
+    pub output: Option<std::path::PathBuf>,
+    pub target_passes: Option<u64>,
 }
 
 fn bad(path: &Path, m: impl Into<String>) -> Error {
@@ -46,6 +57,11 @@ fn bad(path: &Path, m: impl Into<String>) -> Error {
 }
 
 pub fn save(state: &ProgressiveState, path: &Path) -> Result<()> {
+    save_with(state, &RunInfo::default(), path)
+}
+
+/// Save with the run's output path and target pass count.
+pub fn save_with(state: &ProgressiveState, info: &RunInfo, path: &Path) -> Result<()> {
     let c = &state.config;
     let header = Header {
         method: c.method.name().into(),
@@ -61,6 +77,11 @@ pub fn save(state: &ProgressiveState, path: &Path) -> Result<()> {
         scene_hash: format!("{:016x}", state.scene_hash),
         first_pass: state.first_pass,
         passes: state.passes,
+        output: info
+            .output
+            .as_ref()
+            .map(|p| p.to_string_lossy().into_owned()),
+        target_passes: info.target_passes,
     };
     let json = serde_json::to_vec(&header).map_err(|e| bad(path, e.to_string()))?;
     let mut bytes = Vec::new();
@@ -105,6 +126,11 @@ pub fn save(state: &ProgressiveState, path: &Path) -> Result<()> {
 }
 
 pub fn load(path: &Path) -> Result<ProgressiveState> {
+    load_with(path).map(|(s, _)| s)
+}
+
+/// Load a checkpoint and the run information saved with it.
+pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
     let bytes = std::fs::read(path).map_err(|source| Error::Read {
         path: path.to_owned(),
         source,
@@ -173,6 +199,10 @@ pub fn load(path: &Path) -> Result<ProgressiveState> {
     };
     config.validate().map_err(|e| bad(path, e.to_string()))?;
     let f64_at = |at: usize| f64::from_le_bytes(data[at..at + 8].try_into().expect("8 bytes"));
+    let info = RunInfo {
+        output: hd.output.map(std::path::PathBuf::from),
+        target_passes: hd.target_passes,
+    };
     let mut state = ProgressiveState {
         config,
         scene_name: hd.scene,
@@ -211,5 +241,5 @@ pub fn load(path: &Path) -> Result<ProgressiveState> {
                 .collect();
         }
     }
-    Ok(state)
+    Ok((state, info))
 }
