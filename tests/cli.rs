@@ -655,7 +655,7 @@ fn an_interrupted_progressive_render_resumes_to_the_same_image() {
         "20000",
         "-q",
     ];
-    let mut child = Command::new(env!("CARGO_BIN_EXE_photon"))
+    let child = Command::new(env!("CARGO_BIN_EXE_photon"))
         .args(base)
         .args(["--passes", "100000", "-o", "i.pfm"])
         .current_dir(&dir)

@@ -25,7 +25,7 @@ pub struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to an image (.png, .exr or .pfm, chosen by the extension).
-    Render(render::RenderArgs),
+    Render(Box<render::RenderArgs>),
     /// Print how far one image is from a reference: RMSE, relMSE and mean ratio per channel.
     Compare(compare::CompareArgs),
     /// Photon maps: trace and save them, describe a saved file, export it as a PLY point cloud.
@@ -43,7 +43,7 @@ enum Command {
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Render(args) => render::run(args),
+        Command::Render(args) => render::run(*args),
         Command::Compare(args) => compare::run(&args),
         Command::Photons { command } => photons::run(command),
         Command::Model(args) => model::run(&args),
