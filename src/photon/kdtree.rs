@@ -101,45 +101,8 @@ impl KdIndex {
         r2: f32,
         f: &mut impl FnMut(usize, f32),
     ) {
-        self.within_range(points, 0, 0, points.len(), q, r2, f);
-    }
-
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "recursive helper carrying its traversal state"
-    )]
-    fn within_range<T: KdPoint>(
-        &self,
-        points: &[T],
-        node: usize,
-        lo: usize,
-        hi: usize,
-        q: Vec3,
-        r2: f32,
-        f: &mut impl FnMut(usize, f32),
-    ) {
-        if hi - lo <= LEAF {
-            for (i, p) in points[lo..hi].iter().enumerate() {
-                let d2 = (p.position() - q).length_squared();
-                if d2 <= r2 {
-                    f(lo + i, d2);
-                }
-            }
-            return;
-        }
-        let mid = lo + (hi - lo) / 2;
-        let s = self.splits[node];
-        let delta = q[s.axis as usize] - s.value;
-        let (left, right) = ((2 * node + 1, lo, mid), (2 * node + 2, mid, hi));
-        let (near, far) = if delta < 0.0 {
-            (left, right)
-        } else {
-            (right, left)
-        };
-        self.within_range(points, near.0, near.1, near.2, q, r2, f);
-        if delta * delta <= r2 {
-            self.within_range(points, far.0, far.1, far.2, q, r2, f);
-        }
+        let mut v = WithinRadius { r2, f };
+        self.search(points, 0, 0, points.len(), q, &mut v);
     }
 
     /// Indices and squared distances of all points within `sqrt(r2)` of `q`, nearest first.
@@ -175,32 +138,30 @@ impl KdIndex {
         max_r2: f32,
         metric: &impl Fn(&T, f32) -> Option<f32>,
     ) -> Nearest {
-        let mut best = Nearest::new(k, max_r2);
-        self.nearest_by_range(points, 0, 0, points.len(), q, &mut best, metric);
-        best
+        let mut v = NearestBy {
+            best: Nearest::new(k, max_r2),
+            metric,
+        };
+        self.search(points, 0, 0, points.len(), q, &mut v);
+        v.best
     }
 
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "recursive helper carrying its traversal state"
-    )]
-    fn nearest_by_range<T: KdPoint>(
+    /// The one traversal: visits every point whose Euclidean distance² is within the
+    /// visitor's current radius², nearer subtrees first.
+    fn search<T: KdPoint, V: Visitor<T>>(
         &self,
         points: &[T],
         node: usize,
         lo: usize,
         hi: usize,
         q: Vec3,
-        best: &mut Nearest,
-        metric: &impl Fn(&T, f32) -> Option<f32>,
+        v: &mut V,
     ) {
         if hi - lo <= LEAF {
             for (i, p) in points[lo..hi].iter().enumerate() {
                 let d2 = (p.position() - q).length_squared();
-                if d2 <= best.r2()
-                    && let Some(m) = metric(p, d2)
-                {
-                    best.offer(m, lo + i);
+                if d2 <= v.r2() {
+                    v.visit(lo + i, p, d2);
                 }
             }
             return;
@@ -214,9 +175,45 @@ impl KdIndex {
         } else {
             (right, left)
         };
-        self.nearest_by_range(points, near.0, near.1, near.2, q, best, metric);
-        if delta * delta <= best.r2() {
-            self.nearest_by_range(points, far.0, far.1, far.2, q, best, metric);
+        self.search(points, near.0, near.1, near.2, q, v);
+        if delta * delta <= v.r2() {
+            self.search(points, far.0, far.1, far.2, q, v);
+        }
+    }
+}
+
+/// What a search does with the points it reaches, and how far it still looks.
+trait Visitor<T> {
+    fn r2(&self) -> f32;
+    fn visit(&mut self, i: usize, point: &T, d2: f32);
+}
+
+struct WithinRadius<'f, F> {
+    r2: f32,
+    f: &'f mut F,
+}
+
+impl<T, F: FnMut(usize, f32)> Visitor<T> for WithinRadius<'_, F> {
+    fn r2(&self) -> f32 {
+        self.r2
+    }
+    fn visit(&mut self, i: usize, _: &T, d2: f32) {
+        (self.f)(i, d2);
+    }
+}
+
+struct NearestBy<'m, M> {
+    best: Nearest,
+    metric: &'m M,
+}
+
+impl<T, M: Fn(&T, f32) -> Option<f32>> Visitor<T> for NearestBy<'_, M> {
+    fn r2(&self) -> f32 {
+        self.best.r2()
+    }
+    fn visit(&mut self, i: usize, point: &T, d2: f32) {
+        if let Some(m) = (self.metric)(point, d2) {
+            self.best.offer(m, i);
         }
     }
 }
@@ -263,7 +260,7 @@ impl Nearest {
     /// Current search radius²: the k-th distance once k are found, else the maximum.
     #[inline]
     pub fn r2(&self) -> f32 {
-        if self.heap.len() == self.k {
+        if self.heap.len() == self.k && self.k > 0 {
             self.heap[0].0
         } else {
             self.max_r2

@@ -1,7 +1,7 @@
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter, stratified_2d};
-use crate::integrator::{RayStats, trace_camera_path};
+use crate::integrator::{RayStats, VisiblePoint, trace_camera_path};
 use crate::math::{Rgb, Vec2};
 use crate::photon::estimate::radiance_fixed_radius;
 use crate::photon::{PhotonConfig, PhotonMaps, trace_photons};
@@ -298,6 +298,31 @@ fn camera_ray(
     (camera.ray(pos), rng)
 }
 
+/// Radiance at a visible point from both maps within radius `r` (direct photons left out: direct
+/// light comes from next-event estimation), and the number of photons used.
+fn photon_radiance(scene: &Scene, maps: &PhotonMaps, vp: &VisiblePoint, r: f32) -> (Rgb, u32) {
+    let material = scene.material(vp.material);
+    let (lc, mc) = radiance_fixed_radius(
+        &maps.caustic,
+        vp.p,
+        &vp.frame,
+        vp.wo_local,
+        material,
+        r,
+        false,
+    );
+    let (lg, mg) = radiance_fixed_radius(
+        &maps.global,
+        vp.p,
+        &vp.frame,
+        vp.wo_local,
+        material,
+        r,
+        true,
+    );
+    (lc + lg, mc + mg)
+}
+
 #[expect(clippy::too_many_arguments, reason = "per-pixel kernel of a pass")]
 fn sppm_pixel(
     scene: &Scene,
@@ -325,32 +350,13 @@ fn sppm_pixel(
             .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance);
         px.r2 = f64::from(r0) * f64::from(r0);
     }
-    let r = px.r2.sqrt() as f32;
-    let material = scene.material(vp.material);
-    let (lc, mc) = radiance_fixed_radius(
-        &maps.caustic,
-        vp.p,
-        &vp.frame,
-        vp.wo_local,
-        material,
-        r,
-        false,
-    );
-    let (lg, mg) = radiance_fixed_radius(
-        &maps.global,
-        vp.p,
-        &vp.frame,
-        vp.wo_local,
-        material,
-        r,
-        true,
-    );
-    let m = f64::from(mc + mg);
+    let (l, m) = photon_radiance(scene, maps, &vp, px.r2.sqrt() as f32);
+    let m = f64::from(m);
     if m == 0.0 {
         return;
     }
     // Back from radiance to Σ f·Φ (flux), weighted by the specular chain.
-    let phi = (lc + lg) * vp.beta;
+    let phi = l * vp.beta;
     let area = PI * px.r2;
     let n_new = px.n + c.alpha * m;
     let r2_new = px.r2 * n_new / (px.n + m);
@@ -382,26 +388,7 @@ fn ppm_pixel(
     let r0 = c
         .initial_radius
         .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance);
-    let r = r0 * radius_scale;
-    let material = scene.material(vp.material);
-    let (lc, _) = radiance_fixed_radius(
-        &maps.caustic,
-        vp.p,
-        &vp.frame,
-        vp.wo_local,
-        material,
-        r,
-        false,
-    );
-    let (lg, _) = radiance_fixed_radius(
-        &maps.global,
-        vp.p,
-        &vp.frame,
-        vp.wo_local,
-        material,
-        r,
-        true,
-    );
-    let l = path.direct + vp.beta * (lc + lg);
+    let (photons, _) = photon_radiance(scene, maps, &vp, r0 * radius_scale);
+    let l = path.direct + vp.beta * photons;
     if l.is_finite() { l } else { Rgb::ZERO }
 }
