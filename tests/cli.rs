@@ -443,17 +443,19 @@ fn photon_render_writes_aov_layers_npy_and_reuses_saved_maps() {
     ]));
     assert!(o.status.success(), "{}", stderr(&o));
 
-    let o = run(with(&[
-        "render",
-        "cornell",
-        "--integrator",
-        "path",
-        "--aov",
-        "caustic",
-        "-o",
-        "p.exr",
-    ]));
-    assert_usage_error(&o, "need --integrator photon");
+    let path_with = |extra: &[&str]| {
+        let mut args = vec!["render", "cornell", "--integrator", "path", "-q"];
+        args.extend_from_slice(extra);
+        photon(&args, &dir)
+    };
+    assert_usage_error(
+        &path_with(&["--aov", "caustic", "-o", "p.exr"]),
+        "need --integrator photon",
+    );
+    assert_usage_error(
+        &path_with(&["--photon-map", "seed.phm", "-o", "x.png"]),
+        "--photon-map is for --integrator photon",
+    );
     let o = run(with(&["render", "cornell", "--radius=0", "-o", "r.png"]));
     assert_usage_error(&o, "--radius 0");
     let o = run(with(&[

@@ -228,6 +228,18 @@ pub fn run(a: RenderArgs) -> Result<()> {
         return progressive::resume(cp, budget, a.output.as_deref(), a.quiet, &pool);
     }
     let scene = load(&a.scene)?;
+    if a.integrator != IntegratorName::Photon {
+        let photon_only = [
+            (a.photon_map.is_some(), "--photon-map"),
+            (a.per_channel, "--per-channel"),
+            (a.absorption.is_some(), "--absorption"),
+            (a.gather_rays.is_some(), "--gather-rays"),
+            (a.caustic_photons.is_some(), "--caustic-photons"),
+        ];
+        if let Some((_, flag)) = photon_only.iter().find(|(given, _)| *given) {
+            bail!("{flag} is for --integrator photon");
+        }
+    }
     if matches!(a.integrator, IntegratorName::Sppm | IntegratorName::Ppm) {
         return run_progressive(&a, &scene, budget);
     }
