@@ -17,7 +17,7 @@ pub struct Builtin {
 pub const BUILTINS: &[Builtin] = &[
     Builtin {
         name: "seed",
-        description: "the original project's Cornell box: red/green walls, two boxes, chrome and glass (IOR 2.4) spheres, 314 W disk light (default)",
+        description: "the original project's Cornell box: red/green walls, two boxes, chrome and glass (IOR 2.4) spheres, the procedural plant pot, 314 W disk light (default)",
         build: seed::build,
     },
     Builtin {
