@@ -7,9 +7,9 @@ use photon::math::{Ray, Rgb, Vec3};
 use photon::sampling::{Rng, uniform_sphere};
 use photon::scene::{Scene, SceneBuilder};
 
-fn random_scene(seed: u64, n: usize) -> Scene {
-    let mut rng = Rng::keyed(seed, &[]);
-    let mut b = SceneBuilder::new("random");
+/// A scene builder with a camera (which every scene needs; these tests cast their own rays).
+fn builder(name: &str) -> SceneBuilder {
+    let mut b = SceneBuilder::new(name);
     b.camera(
         CameraDesc {
             position: Vec3::new(0.0, 0.0, -5.0),
@@ -20,6 +20,12 @@ fn random_scene(seed: u64, n: usize) -> Scene {
         8,
         8,
     );
+    b
+}
+
+fn random_scene(seed: u64, n: usize) -> Scene {
+    let mut rng = Rng::keyed(seed, &[]);
+    let mut b = builder("random");
     let m = b.material(Material::Lambertian(Lambertian {
         albedo: Rgb::splat(0.5),
     }));
@@ -117,17 +123,7 @@ fn closest_hit_equals_brute_force_for_rays_starting_on_surfaces() {
 #[test]
 fn offset_rays_do_not_hit_their_own_surface() {
     // A ray leaving a sphere outward must not hit it; one refracted inward must hit its far side.
-    let mut b = SceneBuilder::new("one sphere");
-    b.camera(
-        CameraDesc {
-            position: Vec3::new(0.0, 0.0, -5.0),
-            look_at: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_y_deg: 40.0,
-        },
-        8,
-        8,
-    );
+    let mut b = builder("one sphere");
     let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
     let center = Vec3::new(3.0, -2.0, 7.0);
     let radius = 0.08;

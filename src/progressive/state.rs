@@ -152,52 +152,26 @@ impl ProgressiveState {
         let width = c.width as usize;
         let ppm_r_scale = ppm_radius_scale(pass, c.alpha);
         let rays = match c.method {
-            Method::Sppm => self
-                .sppm
-                .par_chunks_mut(width)
-                .enumerate()
-                .map(|(y, row)| {
-                    let mut stats = RayStats::default();
-                    for (x, px) in row.iter_mut().enumerate() {
-                        sppm_pixel(
-                            scene, &maps, &camera, &c, pass, footprint, x, y, px, &mut stats,
-                        );
-                    }
-                    stats
-                })
-                .reduce(RayStats::default, |mut a, b| {
-                    a.add(&b);
-                    a
-                }),
-            Method::Ppm => self
-                .ppm
-                .par_chunks_mut(width)
-                .enumerate()
-                .map(|(y, row)| {
-                    let mut stats = RayStats::default();
-                    for (x, px) in row.iter_mut().enumerate() {
-                        let l = ppm_pixel(
-                            scene,
-                            &maps,
-                            &camera,
-                            &c,
-                            pass,
-                            footprint,
-                            ppm_r_scale,
-                            x,
-                            y,
-                            &mut stats,
-                        );
-                        for k in 0..3 {
-                            px[k] += (f64::from(l[k]) * FIXED).round() as i64;
-                        }
-                    }
-                    stats
-                })
-                .reduce(RayStats::default, |mut a, b| {
-                    a.add(&b);
-                    a
-                }),
+            Method::Sppm => for_each_pixel(&mut self.sppm, width, |x, y, px, stats| {
+                sppm_pixel(scene, &maps, &camera, &c, pass, footprint, x, y, px, stats);
+            }),
+            Method::Ppm => for_each_pixel(&mut self.ppm, width, |x, y, px, stats| {
+                let l = ppm_pixel(
+                    scene,
+                    &maps,
+                    &camera,
+                    &c,
+                    pass,
+                    footprint,
+                    ppm_r_scale,
+                    x,
+                    y,
+                    stats,
+                );
+                for k in 0..3 {
+                    px[k] += (f64::from(l[k]) * FIXED).round() as i64;
+                }
+            }),
         };
         self.passes += 1;
         Ok(PassStats {
@@ -272,6 +246,29 @@ impl ProgressiveState {
         }
         Ok(out)
     }
+}
+
+/// Run `f(x, y, pixel, stats)` on every pixel, rows in parallel; pixels are independent, so
+/// the result does not depend on the thread count.
+fn for_each_pixel<P: Send>(
+    pixels: &mut [P],
+    width: usize,
+    f: impl Fn(usize, usize, &mut P, &mut RayStats) + Sync,
+) -> RayStats {
+    pixels
+        .par_chunks_mut(width)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut stats = RayStats::default();
+            for (x, px) in row.iter_mut().enumerate() {
+                f(x, y, px, &mut stats);
+            }
+            stats
+        })
+        .reduce(RayStats::default, |mut a, b| {
+            a.add(&b);
+            a
+        })
 }
 
 /// r_p / r_0 for PPM pass p (0-based): r_{i+1}² = r_i² (i + α)/(i + 1), with r_1 = r_0.
