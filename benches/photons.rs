@@ -3,9 +3,9 @@
 //! Compare with the original project (../shared/seed/SEED-NOTES.md): 13,000 photons/s,
 //! ~1 M photons/s kd-tree build, 180–260 µs per radius query, 137 bytes per photon.
 
+use photon::description::builtin;
 use photon::photon::{PhotonConfig, trace_photons};
 use photon::sampling::Rng;
-use photon::scene::builtin;
 use rayon::prelude::*;
 use std::time::Instant;
 

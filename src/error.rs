@@ -4,8 +4,14 @@ use std::path::PathBuf;
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    #[error("unknown scene '{name}'; the built-in scenes are: {available}")]
+    #[error(
+        "unknown scene '{name}': it is neither a built-in scene ({available}) nor a .toml, .gltf or .glb file"
+    )]
     UnknownScene { name: String, available: String },
+
+    /// A problem in a scene, mesh or texture file, located where the format allows.
+    #[error("{0}")]
+    SceneFile(Box<crate::description::source::Diagnostic>),
 
     #[error("invalid scene: {0}")]
     InvalidScene(String),

@@ -6,6 +6,7 @@
 pub mod accel;
 pub mod camera;
 pub mod compare;
+pub mod description;
 pub mod error;
 pub mod film;
 pub mod geometry;
@@ -20,5 +21,6 @@ pub mod progressive;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod texture;
 
 pub use error::{Error, Result};

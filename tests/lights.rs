@@ -1,11 +1,11 @@
 //! Every light's reported power against a Monte Carlo integral of its emission, and light
 //! sampling against closed-form irradiance.
 
+use photon::description::builtin;
 use photon::geometry::{Disk, Shape, Triangle};
 use photon::light::{AreaLight, Light, PointLight, SpotLight};
 use photon::math::{Rgb, Vec3};
 use photon::sampling::{Rng, uniform_sphere};
-use photon::scene::builtin;
 use std::f32::consts::PI;
 
 const N: usize = 1_000_000;

@@ -342,12 +342,12 @@ fn pot_body_is_watertight_outward_and_where_the_spec_puts_it() {
 #[test]
 fn the_default_scene_shows_the_pot_lit_with_photon_mapped_indirect_light() {
     use photon::camera::Camera;
+    use photon::description::builtin;
     use photon::film::PixelFilter;
     use photon::integrator::{Integrator, PhotonIntegrator, PhotonSettings};
     use photon::math::Vec3;
     use photon::photon::{PhotonConfig, trace_photons};
     use photon::render::{RenderSettings, render};
-    use photon::scene::builtin;
     use std::sync::Arc;
 
     let scene = builtin::load("seed").expect("builds");

@@ -3,6 +3,7 @@
 mod common;
 
 use photon::compare::compare;
+use photon::description::builtin;
 use photon::film::{Image, PixelFilter};
 use photon::integrator::{Integrator, PhotonIntegrator, PhotonSettings};
 use photon::io::image::read_image;
@@ -11,7 +12,6 @@ use photon::photon::estimate::{GatherParams, Kernel, irradiance};
 use photon::photon::{Channel, MapKind, Photon, PhotonConfig, PhotonMap, trace_photons};
 use photon::render::{RenderOutput, RenderSettings, render};
 use photon::sampling::Rng;
-use photon::scene::builtin;
 use std::sync::Arc;
 
 #[test]

@@ -3,13 +3,13 @@
 mod common;
 
 use common::{chi2, chi2_z};
+use photon::description::builtin;
 use photon::geometry::{Disk, Shape};
 use photon::io::phm;
 use photon::light::{AreaLight, Light, PointLight, SpotLight};
 use photon::math::{Frame, Rgb, Vec3};
 use photon::photon::{Channel, MapKind, PhotonConfig, PhotonMaps, kdtree, trace_photons};
 use photon::sampling::Rng;
-use photon::scene::builtin;
 use std::f64::consts::PI;
 
 fn trace(scene: &str, config: &PhotonConfig) -> PhotonMaps {

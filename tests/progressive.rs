@@ -3,9 +3,9 @@
 mod common;
 
 use photon::compare::{CORNELL_CAUSTIC_CROP, compare};
+use photon::description::builtin;
 use photon::io::image::read_image;
 use photon::progressive::{Method, ProgressiveConfig, ProgressiveState};
-use photon::scene::builtin;
 
 fn config(method: Method, w: u32, h: u32, photons: u64) -> ProgressiveConfig {
     ProgressiveConfig {

@@ -3,11 +3,11 @@
 mod common;
 
 use photon::compare::compare;
+use photon::description::builtin;
 use photon::film::{Image, PixelFilter};
 use photon::integrator::{DirectConfig, Integrator, PathConfig};
 use photon::io::image::read_image;
 use photon::render::{RenderSettings, render};
-use photon::scene::builtin;
 
 fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
     RenderSettings {

@@ -3,11 +3,11 @@
 
 mod common;
 
+use photon::description::builtin;
 use photon::film::PixelFilter;
 use photon::integrator::{Integrator, PathConfig};
 use photon::io::image::linear_to_srgb;
 use photon::render::{RenderSettings, render};
-use photon::scene::builtin;
 
 const N: u32 = 50;
 

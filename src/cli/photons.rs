@@ -6,7 +6,6 @@ use clap::{Subcommand, ValueEnum};
 use photon::io::phm;
 use photon::io::ply::{self, PlyColor, PlyEncoding, PlyFilter};
 use photon::photon::{MapKind, PhotonConfig, PhotonMaps, trace_photons};
-use photon::scene::builtin::load;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -25,7 +24,7 @@ pub enum PhotonsCommand {
 
 #[derive(clap::Args)]
 pub struct TraceArgs {
-    /// Built-in scene name (see `photon scenes`).
+    /// Built-in scene name (see `photon scenes`) or scene file (.toml, .gltf, .glb).
     scene: String,
     /// Output photon-map file (.phm).
     #[arg(short, long)]
@@ -122,7 +121,7 @@ fn check_extension(path: &Path, ext: &str) -> Result<()> {
 
 fn trace(a: &TraceArgs) -> Result<()> {
     check_extension(&a.output, "phm")?;
-    let scene = load(&a.scene)?;
+    let (scene, _) = super::scene(&a.scene)?;
     let config = PhotonConfig {
         photons: a.photons,
         global_photons: a.global_photons,

@@ -7,7 +7,6 @@ use photon::io::checkpoint::{self, RunInfo};
 use photon::io::image::write_image;
 use photon::progressive::ProgressiveState;
 use photon::scene::Scene;
-use photon::scene::builtin::load;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -175,7 +174,7 @@ pub fn resume(
     pool: &rayon::ThreadPool,
 ) -> Result<()> {
     let (state, info) = checkpoint::load_with(path)?;
-    let scene = load(&state.scene_name)?;
+    let (scene, _) = super::scene(&state.scene_name)?;
     if scene.content_hash() != state.scene_hash {
         bail!(
             "'{}' was written for a different version of scene '{}'; it cannot be continued",

@@ -3,6 +3,8 @@
 use super::{progress, progressive};
 use anyhow::{Result, bail};
 use clap::ValueEnum;
+use photon::description::RenderSpec;
+use photon::description::builtin::DEFAULT_SCENE;
 use photon::film::PixelFilter;
 use photon::integrator::{DirectConfig, Integrator, PathConfig, PhotonIntegrator, PhotonSettings};
 use photon::io::image::{ImageFormat, aov_path, check_writable, write_exr_layers, write_image};
@@ -11,7 +13,6 @@ use photon::photon::{Kernel, PhotonConfig, PhotonMaps, trace_photons};
 use photon::progressive::{Method, ProgressiveConfig, ProgressiveState};
 use photon::render::{RenderOutput, RenderSettings, render};
 use photon::scene::Scene;
-use photon::scene::builtin::{DEFAULT_SCENE, load};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -69,7 +70,8 @@ impl Aov {
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// Built-in scene name (see `photon scenes`).
+    /// Built-in scene name (see `photon scenes`) or scene file: .toml (docs/scene-format.md),
+    /// .gltf or .glb. Settings given here override the file's [render] table.
     #[arg(default_value = DEFAULT_SCENE)]
     scene: String,
     /// Output image [default: render.png]; the extension picks the format (.png, .exr, .pfm,
@@ -77,8 +79,9 @@ pub struct RenderArgs {
     /// --pass-range, the partial render file (.part).
     #[arg(short, long)]
     output: Option<PathBuf>,
-    #[arg(long, value_enum, default_value = "photon")]
-    integrator: IntegratorName,
+    /// Rendering algorithm [default: the scene file's, else photon].
+    #[arg(long, value_enum)]
+    integrator: Option<IntegratorName>,
     /// Samples per pixel [default: 8 for photon, 16 for direct, 64 for path].
     #[arg(long)]
     spp: Option<u32>,
@@ -88,18 +91,18 @@ pub struct RenderArgs {
     /// Image height in pixels [default: the scene's].
     #[arg(long)]
     height: Option<u32>,
-    /// Seed of every random stream; the same seed gives the same image.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
+    /// Seed of every random stream; the same seed gives the same image [default: 0].
+    #[arg(long)]
+    seed: Option<u64>,
     /// Worker threads [default: one per core]; the image does not depend on it.
     #[arg(long)]
     threads: Option<usize>,
     /// Maximum number of bounces [default: 16 for direct and photon, 256 for path].
     #[arg(long)]
     max_depth: Option<u32>,
-    /// Samples per area light at each diffuse hit (direct and photon).
-    #[arg(long, default_value_t = 4)]
-    light_samples: u32,
+    /// Samples per area light at each diffuse hit (direct and photon) [default: 4].
+    #[arg(long)]
+    light_samples: Option<u32>,
     /// Pixel filter: `box`, or `gaussian:SIGMA` (SIGMA in pixels; the original used 0.5).
     #[arg(long, default_value = "box", value_parser = parse_filter)]
     filter: PixelFilter,
@@ -177,6 +180,52 @@ pub struct RenderArgs {
     quiet: bool,
 }
 
+impl RenderArgs {
+    fn integrator(&self) -> IntegratorName {
+        self.integrator.unwrap_or(IntegratorName::Photon)
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed.unwrap_or(0)
+    }
+
+    fn light_samples(&self) -> u32 {
+        self.light_samples.unwrap_or(4)
+    }
+
+    /// Fill every setting not given on the command line from the scene file's [render] table.
+    fn apply_scene_settings(&mut self, r: &RenderSpec) -> Result<()> {
+        if self.integrator.is_none()
+            && let Some(name) = &r.integrator
+        {
+            self.integrator =
+                Some(IntegratorName::from_str(name, true).map_err(|_| {
+                    anyhow::anyhow!("the scene names an unknown integrator '{name}'")
+                })?);
+        }
+        self.spp = self.spp.or(r.spp);
+        self.seed = self.seed.or(r.seed);
+        self.max_depth = self.max_depth.or(r.max_depth);
+        self.light_samples = self.light_samples.or(r.light_samples);
+        self.radius = self.radius.or(r.radius);
+        if matches!(
+            self.integrator(),
+            IntegratorName::Sppm | IntegratorName::Ppm
+        ) {
+            self.passes = self.passes.or(r.passes);
+            self.time = self.time.or(r.time);
+        }
+        // Photon-integrator settings apply only when that integrator runs, so that a scene
+        // written for photon mapping can still be rendered with --integrator path.
+        if self.integrator() == IntegratorName::Photon {
+            self.photons = self.photons.or(r.photons);
+            self.caustic_photons = self.caustic_photons.or(r.caustic_photons);
+            self.gather_rays = self.gather_rays.or(r.gather_rays);
+        }
+        Ok(())
+    }
+}
+
 fn parse_range(s: &str) -> Result<(u64, u64), String> {
     let (a, b) = s
         .split_once("..")
@@ -227,8 +276,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let pool = super::thread_pool(a.threads)?;
         return progressive::resume(cp, budget, a.output.as_deref(), a.quiet, &pool);
     }
-    let scene = load(&a.scene)?;
-    if a.integrator != IntegratorName::Photon {
+    let (scene, spec) = super::scene(&a.scene)?;
+    let mut a = a;
+    a.apply_scene_settings(&spec)?;
+    let a = a;
+    if a.integrator() != IntegratorName::Photon {
         let photon_only = [
             (a.photon_map.is_some(), "--photon-map"),
             (a.per_channel, "--per-channel"),
@@ -240,7 +292,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             bail!("{flag} is for --integrator photon");
         }
     }
-    if matches!(a.integrator, IntegratorName::Sppm | IntegratorName::Ppm) {
+    if matches!(a.integrator(), IntegratorName::Sppm | IntegratorName::Ppm) {
         return run_progressive(&a, &scene, budget);
     }
     if a.pass_range.is_some() || a.passes.is_some() || a.time.is_some() {
@@ -251,7 +303,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("render.png"));
     let format = check_writable(&output)?;
-    if a.light_samples == 0 {
+    if a.light_samples() == 0 {
         bail!("--light-samples must be at least 1");
     }
     if !(a.indirect_scale >= 0.0 && a.indirect_scale.is_finite()) {
@@ -264,20 +316,20 @@ pub fn run(a: RenderArgs) -> Result<()> {
         .aov
         .iter()
         .any(|x| matches!(x, Aov::Direct | Aov::Caustic | Aov::Indirect));
-    if component_aovs && a.integrator != IntegratorName::Photon {
+    if component_aovs && a.integrator() != IntegratorName::Photon {
         bail!("the direct, caustic and indirect AOVs need --integrator photon");
     }
     let (default_w, default_h) = scene.default_resolution;
     let settings = RenderSettings {
         width: a.width.unwrap_or(default_w),
         height: a.height.unwrap_or(default_h),
-        spp: a.spp.unwrap_or(match a.integrator {
+        spp: a.spp.unwrap_or(match a.integrator() {
             IntegratorName::Photon => 8,
             IntegratorName::Direct => 16,
             IntegratorName::Path => 64,
             IntegratorName::Sppm | IntegratorName::Ppm => 1,
         }),
-        seed: a.seed,
+        seed: a.seed(),
         filter: a.filter,
     };
     settings.validate()?;
@@ -316,7 +368,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 }
 
 fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -> Result<()> {
-    let method = match a.integrator {
+    let method = match a.integrator() {
         IntegratorName::Sppm => Method::Sppm,
         _ => Method::Ppm,
     };
@@ -328,12 +380,12 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -
         method,
         width: a.width.unwrap_or(w),
         height: a.height.unwrap_or(h),
-        seed: a.seed,
+        seed: a.seed(),
         alpha: a.alpha,
         photons_per_pass: a.photons_per_pass,
         initial_radius: a.radius,
         max_depth: a.max_depth.unwrap_or(16),
-        light_samples: a.light_samples,
+        light_samples: a.light_samples(),
     };
     let (first, budget, partial) = match a.pass_range {
         Some(_) if method != Method::Ppm => {
@@ -381,10 +433,10 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -
 }
 
 fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Integrator> {
-    Ok(match a.integrator {
+    Ok(match a.integrator() {
         IntegratorName::Direct => Integrator::Direct(DirectConfig {
             max_depth: a.max_depth.unwrap_or(DirectConfig::default().max_depth),
-            light_samples: a.light_samples,
+            light_samples: a.light_samples(),
             ..DirectConfig::default()
         }),
         IntegratorName::Path => Integrator::Path(PathConfig {
@@ -400,7 +452,7 @@ fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Inte
             if let Some(d) = a.max_depth {
                 s.max_depth = d;
             }
-            s.light_samples = a.light_samples;
+            s.light_samples = a.light_samples();
             if let Some(r) = a.radius {
                 if !(r > 0.0 && r.is_finite()) {
                     bail!("--radius {r} must be a positive length");
@@ -455,7 +507,7 @@ fn photon_maps(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Pho
         global_photons: Some(global),
         absorption: a.absorption,
         per_channel: a.per_channel,
-        seed: a.seed,
+        seed: a.seed(),
         ..PhotonConfig::default()
     };
     config.validate()?;

@@ -110,6 +110,29 @@ impl Shape {
         }
     }
 
+    /// The shape's own texture parametrisation at a hit: barycentrics (b1, b2) on triangles,
+    /// (φ / 2π, θ / π) about +z on spheres, polar (r / R, φ / 2π) on disks.
+    pub fn uv(&self, hit: &ShapeHit, p: Vec3) -> Vec2 {
+        use std::f32::consts::{PI, TAU};
+        match self {
+            Shape::Triangle(_) => hit.uv,
+            Shape::Sphere(s) => {
+                let d = (p - s.center) / s.radius;
+                let phi = d.y.atan2(d.x).rem_euclid(TAU);
+                Vec2::new(phi / TAU, d.z.clamp(-1.0, 1.0).acos() / PI)
+            }
+            Shape::Disk(d) => {
+                let f = crate::math::Frame::from_normal(d.normal);
+                let q = p - d.center;
+                let (x, y) = (q.dot(f.s), q.dot(f.t));
+                Vec2::new(
+                    (x * x + y * y).sqrt() / d.radius,
+                    y.atan2(x).rem_euclid(TAU) / TAU,
+                )
+            }
+        }
+    }
+
     pub fn area(&self) -> f32 {
         match self {
             Shape::Triangle(s) => s.area(),

@@ -99,15 +99,15 @@ impl Integrator {
 /// Everything about a shading point the light-sampling code needs.
 pub(crate) struct ShadingPoint<'a> {
     pub hit: &'a Hit,
-    pub material: &'a Material,
+    pub material: Material,
     pub frame: Frame,
     pub wo_local: Vec3,
 }
 
 impl<'a> ShadingPoint<'a> {
     pub fn new(scene: &'a Scene, hit: &'a Hit, wo: Vec3) -> Self {
-        let material = scene.material(hit.material);
-        let frame = hit.frame(material, wo);
+        let material = scene.material_at(hit);
+        let frame = hit.frame(&material, wo);
         Self {
             hit,
             material,

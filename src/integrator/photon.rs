@@ -170,7 +170,7 @@ impl PhotonIntegrator {
             hit.p,
             &sp.frame,
             sp.wo_local,
-            sp.material,
+            &sp.material,
             &self.settings.caustic,
             false,
         );
@@ -181,7 +181,7 @@ impl PhotonIntegrator {
                 hit.p,
                 &sp.frame,
                 sp.wo_local,
-                sp.material,
+                &sp.material,
                 &self.settings.global,
                 true,
             ),
@@ -285,8 +285,8 @@ impl PhotonIntegrator {
                 return Rgb::ZERO;
             };
             let wo = -ray.dir;
-            let material = scene.material(hit.material);
-            let frame: Frame = hit.frame(material, wo);
+            let material = scene.material_at(&hit);
+            let frame: Frame = hit.frame(&material, wo);
             if let Material::Lambertian(l) = material {
                 let e = self.lookup(scene, &hit, frame.n).unwrap_or(Rgb::ZERO);
                 return weight * l.albedo * FRAC_1_PI * e;

@@ -3,7 +3,7 @@
 
 use super::direct::{DirectConfig, direct_light};
 use super::{RayStats, ShadingPoint};
-use crate::material::TransportMode;
+use crate::material::{Material, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -14,7 +14,8 @@ pub struct VisiblePoint {
     pub p: Vec3,
     pub frame: Frame,
     pub wo_local: Vec3,
-    pub material: u32,
+    /// The material at the point, textures resolved.
+    pub material: Material,
     /// Throughput of the specular chain from the camera.
     pub beta: Rgb,
     /// Length of the path from the camera (for the pixel footprint).
@@ -62,7 +63,7 @@ pub fn trace_camera_path(
                 p: hit.p,
                 frame: sp.frame,
                 wo_local: sp.wo_local,
-                material: hit.material,
+                material: sp.material,
                 beta,
                 distance,
             });

@@ -6,3 +6,4 @@ pub mod image;
 pub mod mesh;
 pub mod phm;
 pub mod ply;
+pub mod texture;

@@ -259,8 +259,8 @@ fn trace_one(
             return;
         };
         let wo = -ray.dir;
-        let material = scene.material(hit.material);
-        let frame = hit.frame(material, wo);
+        let material = scene.material_at(&hit);
+        let frame = hit.frame(&material, wo);
         if !material.is_specular() {
             let photon = Photon::new(hit.p, frame.n, wo, power, depth, channel);
             if depth > 1 && specular_only {

@@ -297,8 +297,8 @@ fn camera_ray(
 
 /// Radiance at a visible point from both maps within radius `r` (direct photons left out: direct
 /// light comes from next-event estimation), and the number of photons used.
-fn photon_radiance(scene: &Scene, maps: &PhotonMaps, vp: &VisiblePoint, r: f32) -> (Rgb, u32) {
-    let material = scene.material(vp.material);
+fn photon_radiance(maps: &PhotonMaps, vp: &VisiblePoint, r: f32) -> (Rgb, u32) {
+    let material = &vp.material;
     let (lc, mc) = radiance_fixed_radius(
         &maps.caustic,
         vp.p,
@@ -347,7 +347,7 @@ fn sppm_pixel(
             .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance);
         px.r2 = f64::from(r0) * f64::from(r0);
     }
-    let (l, m) = photon_radiance(scene, maps, &vp, px.r2.sqrt() as f32);
+    let (l, m) = photon_radiance(maps, &vp, px.r2.sqrt() as f32);
     let m = f64::from(m);
     if m == 0.0 {
         return;
@@ -385,7 +385,7 @@ fn ppm_pixel(
     let r0 = c
         .initial_radius
         .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance);
-    let (photons, _) = photon_radiance(scene, maps, &vp, r0 * radius_scale);
+    let (photons, _) = photon_radiance(maps, &vp, r0 * radius_scale);
     let l = path.direct + vp.beta * photons;
     if l.is_finite() { l } else { Rgb::ZERO }
 }

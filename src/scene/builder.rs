@@ -1,12 +1,13 @@
-use super::{NO_LIGHT, Scene};
+use super::{NO_LIGHT, Scene, TriangleMesh};
 use crate::accel::Bvh;
 use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
 use crate::geometry::{Disk, Shape, Sphere, Triangle};
 use crate::light::{AreaLight, Light, PointLight, SpotLight};
 use crate::material::Material;
-use crate::math::{Rgb, Vec3};
+use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
+use crate::texture::Texture;
 use glam::Affine3A;
 
 /// Light emitted by an object's surface: constant radiance (W·m⁻²·sr⁻¹), one- or two-sided.
@@ -20,6 +21,8 @@ struct Object {
     shapes: Vec<Shape>,
     /// Per-vertex shading normals of each triangle (smooth meshes), parallel to `shapes`.
     normals: Option<Vec<[Vec3; 3]>>,
+    /// Per-vertex texture coordinates of each triangle, parallel to `shapes`.
+    uvs: Option<Vec<[Vec2; 3]>>,
     material: u32,
     emission: Option<Emission>,
 }
@@ -28,6 +31,8 @@ struct Object {
 pub struct SceneBuilder {
     name: String,
     materials: Vec<Material>,
+    material_textures: Vec<Option<u32>>,
+    textures: Vec<Texture>,
     objects: Vec<Object>,
     lights: Vec<Light>,
     camera: Option<CameraDesc>,
@@ -39,6 +44,8 @@ impl SceneBuilder {
         Self {
             name: name.to_owned(),
             materials: Vec::new(),
+            material_textures: Vec::new(),
+            textures: Vec::new(),
             objects: Vec::new(),
             lights: Vec::new(),
             camera: None,
@@ -54,13 +61,30 @@ impl SceneBuilder {
 
     pub fn material(&mut self, m: Material) -> u32 {
         self.materials.push(m);
+        self.material_textures.push(None);
         (self.materials.len() - 1) as u32
+    }
+
+    /// A material whose albedo is multiplied by `texture` at each hit's (u, v). Only diffuse
+    /// materials have a texturable albedo.
+    pub fn textured_material(&mut self, m: Material, texture: Texture) -> Result<u32> {
+        if !matches!(m, Material::Lambertian(_)) {
+            return Err(Error::InvalidScene(
+                "only diffuse materials take a texture".into(),
+            ));
+        }
+        self.textures.push(texture);
+        self.materials.push(m);
+        self.material_textures
+            .push(Some((self.textures.len() - 1) as u32));
+        Ok((self.materials.len() - 1) as u32)
     }
 
     fn push_object(&mut self, shapes: Vec<Shape>, material: u32, emission: Option<Emission>) {
         self.objects.push(Object {
             shapes,
             normals: None,
+            uvs: None,
             material,
             emission,
         });
@@ -93,45 +117,16 @@ impl SceneBuilder {
         transform: Affine3A,
         material: u32,
     ) -> Result<&mut Self> {
-        if normals.len() != positions.len() {
-            return Err(Error::InvalidScene(format!(
-                "a smooth mesh has {} normals for {} vertices",
-                normals.len(),
-                positions.len()
-            )));
-        }
-        let normal_matrix = transform.matrix3.inverse().transpose();
-        let world_normals: Vec<Vec3> = normals
-            .iter()
-            .map(|&n| Vec3::from(normal_matrix * glam::Vec3A::from(n)).normalize_or_zero())
-            .collect();
-        let before = self.objects.len();
-        self.mesh(positions, triangles, transform, material, None)?;
-        // `mesh` dropped degenerate triangles: keep the normals of the ones it kept.
-        let world: Vec<Vec3> = positions
-            .iter()
-            .map(|&p| transform.transform_point3(p))
-            .collect();
-        let kept: Vec<[Vec3; 3]> = triangles
-            .iter()
-            .filter(|t| {
-                Triangle::new(
-                    world[t[0] as usize],
-                    world[t[1] as usize],
-                    world[t[2] as usize],
-                )
-                .area()
-                    > 0.0
-            })
-            .map(|t| t.map(|i| world_normals[i as usize]))
-            .collect();
-        if let Some(o) = self.objects.get_mut(before) {
-            o.normals = Some(kept);
-        }
-        Ok(self)
+        let mesh = TriangleMesh {
+            positions: positions.to_vec(),
+            normals: normals.to_vec(),
+            uvs: Vec::new(),
+            triangles: triangles.to_vec(),
+        };
+        self.triangle_mesh(&mesh, transform, material, None)
     }
 
-    /// A triangle mesh; `transform` maps object space to world space.
+    /// A flat-shaded triangle mesh; `transform` maps object space to world space.
     pub fn mesh(
         &mut self,
         positions: &[Vec3],
@@ -140,27 +135,72 @@ impl SceneBuilder {
         material: u32,
         emission: Option<Emission>,
     ) -> Result<&mut Self> {
-        let world: Vec<Vec3> = positions
+        let mesh = TriangleMesh {
+            positions: positions.to_vec(),
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            triangles: triangles.to_vec(),
+        };
+        self.triangle_mesh(&mesh, transform, material, emission)
+    }
+
+    /// A triangle mesh with optional per-vertex shading normals and texture coordinates;
+    /// `transform` maps object space to world space. Degenerate triangles are dropped: they can
+    /// never be hit and have no area to emit from.
+    pub fn triangle_mesh(
+        &mut self,
+        mesh: &TriangleMesh,
+        transform: Affine3A,
+        material: u32,
+        emission: Option<Emission>,
+    ) -> Result<&mut Self> {
+        let n = mesh.positions.len();
+        for (what, len) in [("normals", mesh.normals.len()), ("uvs", mesh.uvs.len())] {
+            if len != 0 && len != n {
+                return Err(Error::InvalidScene(format!(
+                    "a mesh has {len} {what} for {n} vertices"
+                )));
+            }
+        }
+        let world: Vec<Vec3> = mesh
+            .positions
             .iter()
             .map(|&p| transform.transform_point3(p))
             .collect();
-        let mut shapes = Vec::with_capacity(triangles.len());
-        for (k, t) in triangles.iter().enumerate() {
-            let v = |i: u32| {
-                world.get(i as usize).copied().ok_or_else(|| {
-                    Error::InvalidScene(format!(
-                        "triangle {k} uses vertex {i}, but the mesh has {} vertices",
-                        world.len()
-                    ))
-                })
-            };
-            let tri = Triangle::new(v(t[0])?, v(t[1])?, v(t[2])?);
-            // Degenerate triangles can never be hit and have no area to emit from.
+        let normal_matrix = transform.matrix3.inverse().transpose();
+        let world_normals: Vec<Vec3> = mesh
+            .normals
+            .iter()
+            .map(|&v| Vec3::from(normal_matrix * glam::Vec3A::from(v)).normalize_or_zero())
+            .collect();
+        let mut shapes = Vec::with_capacity(mesh.triangles.len());
+        let mut normals = Vec::new();
+        let mut uvs = Vec::new();
+        for (k, t) in mesh.triangles.iter().enumerate() {
+            if let Some(&i) = t.iter().find(|&&i| i as usize >= n) {
+                return Err(Error::InvalidScene(format!(
+                    "triangle {k} uses vertex {i}, but the mesh has {n} vertices"
+                )));
+            }
+            let [a, b, c] = t.map(|i| world[i as usize]);
+            let tri = Triangle::new(a, b, c);
             if tri.area() > 0.0 {
                 shapes.push(Shape::Triangle(tri));
+                if !world_normals.is_empty() {
+                    normals.push(t.map(|i| world_normals[i as usize]));
+                }
+                if !mesh.uvs.is_empty() {
+                    uvs.push(t.map(|i| mesh.uvs[i as usize]));
+                }
             }
         }
-        self.push_object(shapes, material, emission);
+        self.objects.push(Object {
+            shapes,
+            normals: (!normals.is_empty()).then_some(normals),
+            uvs: (!uvs.is_empty()).then_some(uvs),
+            material,
+            emission,
+        });
         Ok(self)
     }
 
@@ -174,8 +214,27 @@ impl SceneBuilder {
         .into_iter()
         .filter(|t| t.area() > 0.0)
         .map(Shape::Triangle)
-        .collect();
-        self.push_object(shapes, material, emission);
+        .collect::<Vec<_>>();
+        let uv = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+        ];
+        let uvs = [[uv[0], uv[1], uv[2]], [uv[0], uv[2], uv[3]]];
+        // Keep the texture coordinates of the triangles the degenerate filter kept.
+        let uvs = if shapes.len() == 2 {
+            uvs.to_vec()
+        } else {
+            Vec::new()
+        };
+        self.objects.push(Object {
+            shapes,
+            normals: None,
+            uvs: (!uvs.is_empty()).then_some(uvs),
+            material,
+            emission,
+        });
         self
     }
 
@@ -242,6 +301,8 @@ impl SceneBuilder {
         let mut prim_light = Vec::new();
         let mut prim_normals = Vec::new();
         let mut vertex_normals = Vec::new();
+        let mut prim_uvs = Vec::new();
+        let mut vertex_uvs = Vec::new();
         let mut lights = self.lights;
         for (i, o) in self.objects.into_iter().enumerate() {
             if o.material as usize >= self.materials.len() {
@@ -286,6 +347,13 @@ impl SceneBuilder {
                     }
                     _ => prim_normals.push(NO_LIGHT),
                 }
+                match o.uvs.as_ref().and_then(|uv| uv.get(k)) {
+                    Some(uv) if uv.iter().all(|v| v.is_finite()) => {
+                        vertex_uvs.push(*uv);
+                        prim_uvs.push((vertex_uvs.len() - 1) as u32);
+                    }
+                    _ => prim_uvs.push(NO_LIGHT),
+                }
             }
         }
         let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
@@ -294,6 +362,7 @@ impl SceneBuilder {
         let prim_material = reorder(&prim_material);
         let prim_light = reorder(&prim_light);
         let prim_normals = reorder(&prim_normals);
+        let prim_uvs = reorder(&prim_uvs);
         let shapes = order.iter().map(|&i| shapes[i as usize]).collect();
         let powers: Vec<f64> = lights
             .iter()
@@ -309,7 +378,11 @@ impl SceneBuilder {
             prim_light,
             prim_normals,
             vertex_normals,
+            prim_uvs,
+            vertex_uvs,
             materials: self.materials,
+            material_textures: self.material_textures,
+            textures: self.textures,
             light_choice: Distribution1D::new(&powers),
             lights,
             camera,

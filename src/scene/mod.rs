@@ -4,17 +4,27 @@
 //! it cannot fail.
 
 mod builder;
-pub mod builtin;
 
 pub use builder::{Emission, SceneBuilder};
+
+/// An indexed triangle mesh in object space, as read from a file or built in code. `normals`
+/// and `uvs` are per vertex and may be empty (flat shading, the triangle's own parametrisation).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleMesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub uvs: Vec<Vec2>,
+    pub triangles: Vec<[u32; 3]>,
+}
 
 use crate::accel::Bvh;
 use crate::camera::CameraDesc;
 use crate::geometry::{Bounds, Shape};
 use crate::light::Light;
 use crate::material::Material;
-use crate::math::{Frame, Ray, Rgb, Vec3};
+use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
+use crate::texture::Texture;
 
 /// Marks a primitive that is not part of an area light.
 pub const NO_LIGHT: u32 = u32::MAX;
@@ -29,6 +39,9 @@ pub struct Hit {
     /// Shading normal: interpolated vertex normals on smooth meshes, else `ng`; always on the
     /// same side as `ng`.
     pub ns: Vec3,
+    /// Texture coordinates: interpolated vertex UVs on meshes that have them, else the shape's
+    /// own parametrisation (barycentrics, spherical angles, polar disk coordinates).
+    pub uv: Vec2,
     pub prim: u32,
     pub material: u32,
     /// Index of the area light this primitive belongs to, or [`NO_LIGHT`].
@@ -56,7 +69,13 @@ pub struct Scene {
     /// Index into `vertex_normals` per primitive, or `NO_LIGHT` for flat shading.
     prim_normals: Vec<u32>,
     vertex_normals: Vec<[Vec3; 3]>,
+    /// Index into `vertex_uvs` per primitive, or `NO_LIGHT` for the shape's own parametrisation.
+    prim_uvs: Vec<u32>,
+    vertex_uvs: Vec<[Vec2; 3]>,
     materials: Vec<Material>,
+    /// Texture multiplying each material's albedo, if any (parallel to `materials`).
+    material_textures: Vec<Option<u32>>,
+    textures: Vec<Texture>,
     lights: Vec<Light>,
     light_choice: Option<Distribution1D>,
     pub camera: CameraDesc,
@@ -92,11 +111,20 @@ impl Scene {
                 if n.dot(surface.n) < 0.0 { -n } else { n }
             }
         };
+        let uv = match self.prim_uvs[prim as usize] {
+            NO_LIGHT => self.shapes[prim as usize].uv(&shape_hit, surface.p),
+            k => {
+                let [a, b, c] = self.vertex_uvs[k as usize];
+                let (b1, b2) = (shape_hit.uv.x, shape_hit.uv.y);
+                (1.0 - b1 - b2) * a + b1 * b + b2 * c
+            }
+        };
         Some(Hit {
             t: shape_hit.t,
             p: surface.p,
             ng: surface.n,
             ns,
+            uv,
             prim,
             material: self.prim_material[prim as usize],
             light: self.prim_light[prim as usize],
@@ -129,6 +157,19 @@ impl Scene {
 
     pub fn material(&self, id: u32) -> &Material {
         &self.materials[id as usize]
+    }
+
+    /// The material at a hit, with any texture looked up at the hit's (u, v).
+    #[inline]
+    pub fn material_at(&self, hit: &Hit) -> Material {
+        let m = self.materials[hit.material as usize];
+        match (m, self.material_textures[hit.material as usize]) {
+            (Material::Lambertian(mut l), Some(t)) => {
+                l.albedo *= self.textures[t as usize].eval(hit.uv);
+                Material::Lambertian(l)
+            }
+            _ => m,
+        }
     }
 
     pub fn lights(&self) -> &[Light] {
@@ -180,6 +221,23 @@ impl Scene {
         }
         for m in &self.materials {
             h.write(format!("{m:?}").as_bytes());
+        }
+        for t in &self.material_textures {
+            h.write(format!("{t:?}").as_bytes());
+        }
+        for t in &self.textures {
+            match t {
+                Texture::Checker(c) => h.write(format!("{c:?}").as_bytes()),
+                Texture::Image(i) => {
+                    h.write(format!("{}x{}", i.width, i.height).as_bytes());
+                    for v in &i.texels {
+                        h.write(bytemuck::bytes_of(&v.to_array()));
+                    }
+                }
+            }
+        }
+        for uv in &self.vertex_uvs {
+            h.write(format!("{uv:?}").as_bytes());
         }
         for l in &self.lights {
             h.write(format!("{:?}", l.power()).as_bytes());

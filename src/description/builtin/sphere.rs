@@ -3,11 +3,8 @@
 //! ρ I / (π R² (1 − ρ)): the direct irradiance I/R² is the same everywhere, and each bounce
 //! adds the same again times ρ. With R = 1, ρ = 0.5, I = π it is exactly 1.
 
-use crate::camera::CameraDesc;
-use crate::error::Result;
-use crate::material::{Lambertian, Material};
+use crate::description::{CameraSpec, Intensity, LightSpec, SceneDesc, ShapeKind};
 use crate::math::{Rgb, Vec3};
-use crate::scene::{Scene, SceneBuilder};
 use std::f32::consts::PI;
 
 pub const RADIUS: f32 = 1.0;
@@ -19,22 +16,29 @@ pub fn expected_radiance() -> f32 {
     ALBEDO * INTENSITY / (PI * RADIUS * RADIUS * (1.0 - ALBEDO))
 }
 
-pub fn build() -> Result<Scene> {
-    let mut b = SceneBuilder::new("closed-sphere");
-    b.camera(
-        CameraDesc {
+pub fn desc() -> SceneDesc {
+    let mut d = SceneDesc::new(
+        "closed-sphere",
+        CameraSpec {
             position: Vec3::new(0.0, 0.0, -0.5),
             look_at: Vec3::new(0.0, 0.0, 1.0),
             up: Vec3::Y,
             fov_y_deg: 90.0,
+            width: 32,
+            height: 32,
         },
-        32,
-        32,
     );
-    let wall = b.material(Material::Lambertian(Lambertian {
-        albedo: Rgb::splat(ALBEDO),
-    }));
-    b.sphere(Vec3::ZERO, RADIUS, wall, None);
-    b.point_light(Vec3::ZERO, Rgb::splat(INTENSITY));
-    b.build()
+    let wall = d.diffuse("wall", [ALBEDO; 3]);
+    d.shape(
+        ShapeKind::Sphere {
+            center: Vec3::ZERO,
+            radius: RADIUS,
+        },
+        &wall,
+    );
+    d.lights.push(LightSpec::Point {
+        position: Vec3::ZERO,
+        intensity: Intensity::Intensity(Rgb::splat(INTENSITY)),
+    });
+    d
 }

@@ -1,11 +1,10 @@
 //! The Cornell box validation scene, per ../shared/scenes/cornell-box/SCENE.md (Y up, metres):
 //! the Cornell Program of Computer Graphics' measured geometry, used verbatim.
 
-use crate::camera::CameraDesc;
-use crate::error::Result;
-use crate::material::{Dielectric, Lambertian, Material, Mirror};
+use crate::description::{
+    CameraSpec, EmissionSpec, LightSpec, MaterialSpec, SceneDesc, ShapeKind, ShapeSpec,
+};
 use crate::math::{Rgb, Vec3};
-use crate::scene::{Emission, Scene, SceneBuilder};
 
 type Quad = [[f32; 3]; 4];
 
@@ -117,56 +116,62 @@ const LIGHT: Quad = [
 /// Emitted radiance of the light, W·m⁻²·sr⁻¹ per channel.
 pub const LIGHT_RADIANCE: [f32; 3] = [17.0, 12.0, 4.0];
 
-fn quad(q: &Quad) -> [Vec3; 4] {
-    q.map(Vec3::from_array)
+fn quad(q: &Quad) -> ShapeKind {
+    ShapeKind::Quad {
+        vertices: q.map(Vec3::from_array),
+    }
 }
 
-pub fn build() -> Result<Scene> {
-    let mut b = SceneBuilder::new("cornell");
-    b.camera(
-        CameraDesc {
+pub fn desc() -> SceneDesc {
+    let mut d = SceneDesc::new(
+        "cornell",
+        CameraSpec {
             position: Vec3::new(0.278, 0.273, -0.8),
             look_at: Vec3::new(0.278, 0.273, 0.0),
             up: Vec3::Y,
             fov_y_deg: 39.3076,
+            width: 512,
+            height: 512,
         },
-        512,
-        512,
     );
-    let mut lambert = |r: f32, g: f32, bl: f32| {
-        b.material(Material::Lambertian(Lambertian {
-            albedo: Rgb::new(r, g, bl),
-        }))
-    };
-    let white = lambert(0.725, 0.71, 0.68);
-    let red = lambert(0.63, 0.065, 0.05);
-    let green = lambert(0.14, 0.45, 0.091);
-    let black = lambert(0.0, 0.0, 0.0);
-    let glass = b.material(Material::Dielectric(Dielectric {
-        ior: 1.5,
-        transmittance: Rgb::ONE,
-    }));
-    let mirror = b.material(Material::Mirror(Mirror {
-        reflectance: Rgb::ONE,
-    }));
-
+    let white = d.diffuse("white", [0.725, 0.71, 0.68]);
+    let red = d.diffuse("red", [0.63, 0.065, 0.05]);
+    let green = d.diffuse("green", [0.14, 0.45, 0.091]);
+    let glass = d.material(
+        "glass",
+        MaterialSpec::Glass {
+            ior: 1.5,
+            transmittance: Rgb::ONE,
+        },
+    );
+    let mirror = d.material(
+        "mirror",
+        MaterialSpec::Mirror {
+            reflectance: Rgb::ONE,
+        },
+    );
     for q in [&FLOOR, &CEILING, &BACK_WALL] {
-        b.quad(quad(q), white, None);
+        d.shape(quad(q), &white);
     }
-    b.quad(quad(&GREEN_WALL), green, None);
-    b.quad(quad(&RED_WALL), red, None);
+    d.shape(quad(&GREEN_WALL), &green);
+    d.shape(quad(&RED_WALL), &red);
     for q in SHORT_BLOCK.iter().chain(TALL_BLOCK.iter()) {
-        b.quad(quad(q), white, None);
+        d.shape(quad(q), &white);
     }
-    b.sphere(Vec3::new(0.1855, 0.245, 0.169), 0.08, glass, None);
-    b.sphere(Vec3::new(0.3685, 0.41, 0.35125), 0.08, mirror, None);
-    b.quad(
-        quad(&LIGHT),
-        black,
-        Some(Emission {
+    let sphere = |center: Vec3| ShapeKind::Sphere {
+        center,
+        radius: 0.08,
+    };
+    d.shape(sphere(Vec3::new(0.1855, 0.245, 0.169)), &glass);
+    d.shape(sphere(Vec3::new(0.3685, 0.41, 0.35125)), &mirror);
+    d.lights.push(LightSpec::Area(ShapeSpec {
+        kind: quad(&LIGHT),
+        material: None,
+        transform: Vec::new(),
+        emission: Some(EmissionSpec::Radiance {
             radiance: Rgb::from_array(LIGHT_RADIANCE),
             two_sided: false,
         }),
-    );
-    b.build()
+    }));
+    d
 }

@@ -1,0 +1,394 @@
+//! From a [`SceneDesc`] to a renderable [`Scene`]: materials and textures, shapes and their
+//! transforms, mesh files, lights given by power or radiance.
+
+use super::mesh::{self, ImportedMaterial};
+use super::source::Diagnostic;
+use super::{
+    ColorSpec, EmissionSpec, Intensity, LightSpec, MaterialSpec, SceneDesc, ShapeKind, ShapeSpec,
+    compose,
+};
+use crate::camera::CameraDesc;
+use crate::error::{Error, Result};
+use crate::geometry::{Disk, Shape, Sphere};
+use crate::light::SpotLight;
+use crate::material::{Dielectric, Lambertian, Material, Mirror};
+use crate::math::{Rgb, Vec3};
+use crate::modeling::PolyMesh;
+use crate::modeling::pot::{PotParams, pot};
+use crate::scene::{Emission, Scene, SceneBuilder, TriangleMesh};
+use crate::texture::{Checker, Texture};
+use glam::Affine3A;
+use std::collections::HashMap;
+use std::f32::consts::PI;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Build the scene a description describes, reading the files it names (relative to its
+/// `base_dir`).
+pub fn build(desc: &SceneDesc) -> Result<Scene> {
+    let mut b = SceneBuilder::new(&desc.name);
+    let c = &desc.camera;
+    b.camera(
+        CameraDesc {
+            position: c.position,
+            look_at: c.look_at,
+            up: c.up,
+            fov_y_deg: c.fov_y_deg,
+        },
+        c.width,
+        c.height,
+    );
+    let mut ctx = Context {
+        base_dir: &desc.base_dir,
+        materials: HashMap::new(),
+        black: None,
+        imported: HashMap::new(),
+    };
+    for (name, spec) in &desc.materials {
+        let id = add_material(&mut b, spec, ctx.base_dir)?;
+        ctx.materials.insert(name.clone(), id);
+    }
+    for shape in &desc.shapes {
+        add_shape(&mut b, &mut ctx, shape)?;
+    }
+    for light in &desc.lights {
+        match light {
+            LightSpec::Point {
+                position,
+                intensity,
+            } => {
+                let i = match *intensity {
+                    Intensity::Intensity(i) => i,
+                    Intensity::Power(p) => p / (4.0 * PI),
+                };
+                b.point_light(*position, i);
+            }
+            LightSpec::Spot {
+                position,
+                look_at,
+                intensity,
+                angle_deg,
+                falloff_deg,
+            } => {
+                let make = |i: Rgb| {
+                    SpotLight::new(*position, *look_at - *position, i, *angle_deg, *falloff_deg)
+                };
+                let i = match *intensity {
+                    Intensity::Intensity(i) => i,
+                    // Power is linear in intensity: scale a unit light's power.
+                    Intensity::Power(p) => p / make(Rgb::ONE).power().x,
+                };
+                b.spot_light(make(i));
+            }
+            LightSpec::Area(shape) => add_shape(&mut b, &mut ctx, shape)?,
+        }
+    }
+    b.build()
+}
+
+struct Context<'a> {
+    base_dir: &'a Path,
+    materials: HashMap<String, u32>,
+    /// The non-reflecting material of area lights that name none.
+    black: Option<u32>,
+    /// Materials read from mesh files, by file and material name.
+    imported: HashMap<(std::path::PathBuf, String), u32>,
+}
+
+impl Context<'_> {
+    fn material(
+        &mut self,
+        b: &mut SceneBuilder,
+        name: Option<&str>,
+        emissive: bool,
+    ) -> Result<u32> {
+        match name {
+            Some(n) => self
+                .materials
+                .get(n)
+                .copied()
+                .ok_or_else(|| Error::InvalidScene(format!("material '{n}' is not defined"))),
+            None if emissive => Ok(*self.black.get_or_insert_with(|| {
+                b.material(Material::Lambertian(Lambertian { albedo: Rgb::ZERO }))
+            })),
+            None => Err(Error::InvalidScene("a shape has no material".into())),
+        }
+    }
+}
+
+fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> Result<u32> {
+    Ok(match spec {
+        MaterialSpec::Diffuse { albedo } => {
+            let (constant, texture) = match albedo {
+                ColorSpec::Constant(c) => (*c, None),
+                ColorSpec::Image { file, tint } => {
+                    let t = crate::io::texture::read_texture(&base_dir.join(file))?;
+                    (*tint, Some(Texture::Image(Arc::new(t))))
+                }
+                ColorSpec::Decoded { texture, tint } => {
+                    (*tint, Some(Texture::Image(texture.0.clone())))
+                }
+                ColorSpec::Checker { even, odd, scale } => (
+                    Rgb::ONE,
+                    Some(Texture::Checker(Checker {
+                        even: *even,
+                        odd: *odd,
+                        scale: *scale,
+                    })),
+                ),
+            };
+            let m = Material::Lambertian(Lambertian { albedo: constant });
+            match texture {
+                Some(t) => b.textured_material(m, t)?,
+                None => b.material(m),
+            }
+        }
+        MaterialSpec::Mirror { reflectance } => b.material(Material::Mirror(Mirror {
+            reflectance: *reflectance,
+        })),
+        MaterialSpec::Glass { ior, transmittance } => {
+            b.material(Material::Dielectric(Dielectric {
+                ior: *ior,
+                transmittance: *transmittance,
+            }))
+        }
+    })
+}
+
+/// Radiance of an emission spec over a surface of world-space `area`.
+fn radiance(e: &EmissionSpec, area: f32) -> Result<Emission> {
+    Ok(match *e {
+        EmissionSpec::Radiance {
+            radiance,
+            two_sided,
+        } => Emission {
+            radiance,
+            two_sided,
+        },
+        EmissionSpec::Power { power, two_sided } => {
+            if area.is_nan() || area <= 0.0 {
+                return Err(Error::InvalidScene(
+                    "an emitter given by its power has no area".into(),
+                ));
+            }
+            // Φ = L · π · A per lit side (Lambertian emitter).
+            let sides = if two_sided { 2.0 } else { 1.0 };
+            Emission {
+                radiance: power / (sides * PI * area),
+                two_sided,
+            }
+        }
+    })
+}
+
+fn mesh_area(mesh: &TriangleMesh, m: &Affine3A) -> f32 {
+    let p: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|&p| m.transform_point3(p))
+        .collect();
+    mesh.triangles
+        .iter()
+        .filter(|t| t.iter().all(|&i| (i as usize) < p.len()))
+        .map(|t| {
+            let [a, b, c] = t.map(|i| p[i as usize]);
+            0.5 * (b - a).cross(c - a).length()
+        })
+        .sum()
+}
+
+fn quad_mesh(quads: &[[Vec3; 4]]) -> TriangleMesh {
+    let mut mesh = TriangleMesh::default();
+    for q in quads {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend_from_slice(q);
+        mesh.triangles.push([base, base + 1, base + 2]);
+        mesh.triangles.push([base, base + 2, base + 3]);
+    }
+    mesh
+}
+
+fn box_quads(min: Vec3, max: Vec3) -> Vec<[Vec3; 4]> {
+    let c = |x: bool, y: bool, z: bool| {
+        Vec3::new(
+            if x { max.x } else { min.x },
+            if y { max.y } else { min.y },
+            if z { max.z } else { min.z },
+        )
+    };
+    let (f, t) = (false, true);
+    // Counter-clockwise seen from outside.
+    vec![
+        [c(f, f, f), c(f, t, f), c(t, t, f), c(t, f, f)], // −z
+        [c(f, f, t), c(t, f, t), c(t, t, t), c(f, t, t)], // +z
+        [c(f, f, f), c(t, f, f), c(t, f, t), c(f, f, t)], // −y
+        [c(f, t, f), c(f, t, t), c(t, t, t), c(t, t, f)], // +y
+        [c(f, f, f), c(f, f, t), c(f, t, t), c(f, t, f)], // −x
+        [c(t, f, f), c(t, t, f), c(t, t, t), c(t, f, t)], // +x
+    ]
+}
+
+fn add_shape(b: &mut SceneBuilder, ctx: &mut Context, s: &ShapeSpec) -> Result<()> {
+    let m = compose(&s.transform);
+    let emissive = s.emission.is_some();
+    match &s.kind {
+        ShapeKind::Sphere { center, radius } => {
+            let shape = Shape::Sphere(Sphere {
+                center: *center,
+                radius: *radius,
+            });
+            analytic(b, ctx, s, shape, &m)
+        }
+        ShapeKind::Disk {
+            center,
+            normal,
+            radius,
+        } => {
+            let shape = Shape::Disk(Disk {
+                center: *center,
+                normal: normal.normalize_or(Vec3::Z),
+                radius: *radius,
+            });
+            analytic(b, ctx, s, shape, &m)
+        }
+        ShapeKind::Quad { vertices } => {
+            let material = ctx.material(b, s.material.as_deref(), emissive)?;
+            let world = vertices.map(|v| m.transform_point3(v));
+            let emission = match &s.emission {
+                Some(e) => Some(radiance(
+                    e,
+                    mesh_area(&quad_mesh(&[world]), &Affine3A::IDENTITY),
+                )?),
+                None => None,
+            };
+            b.quad(world, material, emission);
+            Ok(())
+        }
+        ShapeKind::Box { min, max } => {
+            let mesh = quad_mesh(&box_quads(*min, *max));
+            add_mesh(b, ctx, s, &mesh, &m)
+        }
+        ShapeKind::Triangles(mesh) => add_mesh(b, ctx, s, mesh, &m),
+        ShapeKind::MeshFile { file, smooth } => {
+            let path = ctx.base_dir.join(file);
+            let parts = mesh::load_mesh_file(&path)?;
+            for mut part in parts.parts {
+                if !smooth {
+                    part.mesh.normals.clear();
+                }
+                let (material, emission) = match (&s.material, &part.material) {
+                    (Some(_), _) | (None, None) => (
+                        ctx.material(b, s.material.as_deref(), emissive)?,
+                        s.emission,
+                    ),
+                    (None, Some(im)) => (imported(b, ctx, &path, im)?, s.emission.or(im.emission)),
+                };
+                let emission = match &emission {
+                    Some(e) => Some(radiance(e, mesh_area(&part.mesh, &m))?),
+                    None => None,
+                };
+                b.triangle_mesh(&part.mesh, m, material, emission)?;
+            }
+            Ok(())
+        }
+        ShapeKind::Pot {
+            subdivisions,
+            seed,
+            soil_material,
+            leaf_material,
+        } => {
+            let model = pot(&PotParams {
+                subdivisions: *subdivisions,
+                seed: *seed,
+            });
+            let clay = ctx.material(b, s.material.as_deref(), false)?;
+            let soil =
+                ctx.material(b, soil_material.as_deref().or(s.material.as_deref()), false)?;
+            let leaf =
+                ctx.material(b, leaf_material.as_deref().or(s.material.as_deref()), false)?;
+            b.triangle_mesh(&smooth_mesh(&model.body), m, clay, None)?;
+            let soil_disk = Shape::Disk(Disk {
+                center: model.soil_center.as_vec3(),
+                normal: Vec3::Z,
+                radius: model.soil_radius as f32,
+            });
+            b.object_transformed(&[soil_disk], m, soil, None)?;
+            for leaf_mesh in &model.leaves {
+                b.triangle_mesh(&smooth_mesh(leaf_mesh), m, leaf, None)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+fn smooth_mesh(mesh: &PolyMesh) -> TriangleMesh {
+    TriangleMesh {
+        positions: mesh.positions.iter().map(|p| p.as_vec3()).collect(),
+        normals: mesh.vertex_normals().iter().map(|n| n.as_vec3()).collect(),
+        uvs: Vec::new(),
+        triangles: mesh.triangles(),
+    }
+}
+
+fn analytic(
+    b: &mut SceneBuilder,
+    ctx: &mut Context,
+    s: &ShapeSpec,
+    shape: Shape,
+    m: &Affine3A,
+) -> Result<()> {
+    let material = ctx.material(b, s.material.as_deref(), s.emission.is_some())?;
+    let world = shape
+        .transformed(m)
+        .map_err(|e| Error::InvalidScene(e.to_owned()))?;
+    let emission = match &s.emission {
+        Some(e) => Some(radiance(e, world.area())?),
+        None => None,
+    };
+    // Already in world space: the identity keeps the analytic shape bit-exact.
+    b.object_transformed(&[world], Affine3A::IDENTITY, material, emission)?;
+    Ok(())
+}
+
+fn add_mesh(
+    b: &mut SceneBuilder,
+    ctx: &mut Context,
+    s: &ShapeSpec,
+    mesh: &TriangleMesh,
+    m: &Affine3A,
+) -> Result<()> {
+    let material = ctx.material(b, s.material.as_deref(), s.emission.is_some())?;
+    let emission = match &s.emission {
+        Some(e) => Some(radiance(e, mesh_area(mesh, m))?),
+        None => None,
+    };
+    b.triangle_mesh(mesh, *m, material, emission)?;
+    Ok(())
+}
+
+/// The scene material for a material read from a mesh file (added once per file and name).
+fn imported(
+    b: &mut SceneBuilder,
+    ctx: &mut Context,
+    file: &Path,
+    im: &ImportedMaterial,
+) -> Result<u32> {
+    let key = (file.to_owned(), im.name.clone());
+    if let Some(&id) = ctx.imported.get(&key) {
+        return Ok(id);
+    }
+    let dir = file.parent().unwrap_or(Path::new(""));
+    let id = add_material(b, &im.spec, dir).map_err(|e| match e {
+        Error::Read { path, source } => Error::SceneFile(Box::new(Diagnostic::whole_file(
+            file,
+            format!(
+                "material '{}' uses texture '{}', which cannot be read: {source}",
+                im.name,
+                path.display()
+            ),
+        ))),
+        other => other,
+    })?;
+    ctx.imported.insert(key, id);
+    Ok(id)
+}

@@ -1,0 +1,184 @@
+//! Wavefront OBJ with MTL materials (Kd, Ke, Ni, illum, map_Kd), read by `tobj`. `tobj` does not
+//! say where a problem is, so on error the text is scanned again to find the offending line.
+
+use super::{ImportedMaterial, MeshFile, MeshPart, file_error, read_bytes};
+use crate::description::source::Diagnostic;
+use crate::description::{ColorSpec, EmissionSpec, MaterialSpec};
+use crate::error::{Error, Result};
+use crate::math::{Rgb, Vec2, Vec3};
+use crate::scene::TriangleMesh;
+use std::path::Path;
+
+pub fn read(path: &Path) -> Result<MeshFile> {
+    let bytes = read_bytes(path)?;
+    let text = String::from_utf8_lossy(&bytes);
+    let options = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let mut warnings = Vec::new();
+    let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |mtl| {
+        tobj::load_mtl(dir.join(mtl))
+    })
+    .map_err(|e| locate(path, &text, &e))?;
+    let materials = match materials {
+        Ok(m) => m,
+        Err(e) => {
+            warnings.push(format!(
+                "{}: its material library could not be read ({e}); the scene's material is used",
+                path.display()
+            ));
+            Vec::new()
+        }
+    };
+    let mut parts = Vec::with_capacity(models.len());
+    for model in models {
+        let m = &model.mesh;
+        let positions: Vec<Vec3> = m
+            .positions
+            .chunks_exact(3)
+            .map(|p| Vec3::new(p[0], p[1], p[2]))
+            .collect();
+        let normals = if m.normals.len() == m.positions.len() {
+            m.normals
+                .chunks_exact(3)
+                .map(|n| Vec3::new(n[0], n[1], n[2]))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let uvs = if m.texcoords.len() / 2 == positions.len() {
+            m.texcoords
+                .chunks_exact(2)
+                .map(|t| Vec2::new(t[0], t[1]))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let triangles = m
+            .indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect();
+        let material = m
+            .material_id
+            .and_then(|i| materials.get(i))
+            .map(|mtl| convert(mtl, &mut warnings));
+        parts.push(MeshPart {
+            name: model.name,
+            mesh: TriangleMesh {
+                positions,
+                normals,
+                uvs,
+                triangles,
+            },
+            material,
+        });
+    }
+    warnings.dedup();
+    Ok(MeshFile { parts, warnings })
+}
+
+/// MTL to our materials: illum 5 (or 3) is a mirror, illum 4, 6, 7 or 9 glass of index Ni;
+/// anything else is diffuse with Kd or map_Kd. Ke > 0 makes the surface an emitter of that
+/// radiance.
+fn convert(m: &tobj::Material, warnings: &mut Vec<String>) -> ImportedMaterial {
+    let rgb = |c: Option<[f32; 3]>, default: Rgb| c.map_or(default, Rgb::from_array);
+    let spec = match m.illumination_model {
+        Some(3 | 5) => MaterialSpec::Mirror {
+            reflectance: rgb(m.specular, Rgb::ONE),
+        },
+        Some(4 | 6 | 7 | 9) => MaterialSpec::Glass {
+            ior: m.optical_density.unwrap_or(1.5),
+            transmittance: Rgb::ONE,
+        },
+        _ => MaterialSpec::Diffuse {
+            albedo: match &m.diffuse_texture {
+                // A texture replaces Kd (as in pbrt and Blender's importer).
+                Some(t) => ColorSpec::Image {
+                    file: t.into(),
+                    tint: Rgb::ONE,
+                },
+                None => ColorSpec::Constant(rgb(m.diffuse, Rgb::splat(0.8))),
+            },
+        },
+    };
+    if m.normal_texture.is_some() || m.specular_texture.is_some() {
+        warnings
+            .push("OBJ: bump, normal and specular maps are not supported and were ignored".into());
+    }
+    let emission = m
+        .emissive
+        .map(Rgb::from_array)
+        .filter(|e| e.max_element() > 0.0)
+        .map(|radiance| EmissionSpec::Radiance {
+            radiance,
+            two_sided: false,
+        });
+    ImportedMaterial {
+        name: m.name.clone(),
+        spec,
+        emission,
+    }
+}
+
+/// Turn a `tobj` error into a located diagnostic by finding the first line that causes it.
+fn locate(path: &Path, text: &str, e: &tobj::LoadError) -> Error {
+    let (mut v, mut vt, mut vn) = (0i64, 0i64, 0i64);
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        let mut words = line.split_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        let args: Vec<&str> = words.collect();
+        let numbers_ok =
+            |min: usize| args.len() >= min && args.iter().all(|a| a.parse::<f32>().is_ok());
+        let at =
+            |msg: String| Error::SceneFile(Box::new(Diagnostic::at_line(path, text, i + 1, msg)));
+        match keyword {
+            "v" if !numbers_ok(3) => {
+                return at("expected a vertex position: v x y z".into());
+            }
+            "vn" if !numbers_ok(3) => return at("expected a normal: vn x y z".into()),
+            "vt" if !numbers_ok(1) => return at("expected texture coordinates: vt u v".into()),
+            "v" => v += 1,
+            "vn" => vn += 1,
+            "vt" => vt += 1,
+            "f" => {
+                if args.len() < 3 {
+                    return at(format!(
+                        "a face needs at least 3 vertices, this one has {}",
+                        args.len()
+                    ));
+                }
+                let counts = [(v, "vertex"), (vt, "texture coordinate"), (vn, "normal")];
+                for a in &args {
+                    for (slot, part) in a.split('/').enumerate() {
+                        if part.is_empty() && slot > 0 {
+                            continue;
+                        }
+                        let (Some(&(count, what)), Ok(index)) =
+                            (counts.get(slot), part.parse::<i64>())
+                        else {
+                            return at(format!(
+                                "'{a}' is not a face vertex; expected v, v/vt, v//vn or v/vt/vn indices"
+                            ));
+                        };
+                        let resolved = if index < 0 { count + index + 1 } else { index };
+                        if index == 0 || resolved < 1 || resolved > count {
+                            return at(format!(
+                                "{what} index {index} is out of range: {count} {what}s are defined before this line"
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    file_error(path, format!("cannot read the OBJ file: {e}"))
+}

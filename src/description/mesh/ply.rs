@@ -1,0 +1,183 @@
+//! PLY meshes (ASCII and binary), read by `ply-rs-bw`: vertex positions, optional normals
+//! (nx ny nz) and texture coordinates (u v, s t or texture_u texture_v), polygon faces
+//! (vertex_indices or vertex_index) split into triangles.
+
+use super::{MAX_ELEMENTS, MeshFile, MeshPart, fan, file_error, read_bytes};
+use crate::error::Result;
+use crate::math::{Vec2, Vec3};
+use crate::scene::TriangleMesh;
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{DefaultElement, Encoding, Header, Property, PropertyType, ScalarType};
+use std::path::Path;
+
+pub fn read(path: &Path) -> Result<MeshFile> {
+    let bytes = read_bytes(path)?;
+    let parser = Parser::<DefaultElement>::new();
+    let mut reader = Reader::new(std::io::Cursor::new(&bytes[..]));
+    let header = parser
+        .read_header(&mut reader)
+        .map_err(|e| file_error(path, format!("not a valid PLY header: {e}")))?;
+    let payload_bytes = bytes.len() as u64 - reader.get_ref().position();
+    check_sizes(path, &header, payload_bytes)?;
+    let payload = parser
+        .read_payload(&mut reader, &header)
+        .map_err(|e| file_error(path, format!("cannot read the PLY data: {e}")))?;
+    let empty = Vec::new();
+    let vertices = payload.get("vertex").unwrap_or(&empty);
+    let number = |e: &DefaultElement, names: &[&str]| -> Option<f32> {
+        names.iter().find_map(|n| e.get(*n)).and_then(scalar)
+    };
+    let mut positions = Vec::with_capacity(vertices.len());
+    let mut normals = Vec::new();
+    let mut uvs = Vec::new();
+    for (i, v) in vertices.iter().enumerate() {
+        let (Some(x), Some(y), Some(z)) = (number(v, &["x"]), number(v, &["y"]), number(v, &["z"]))
+        else {
+            return Err(file_error(
+                path,
+                format!("vertex {i} has no numeric x, y and z properties"),
+            ));
+        };
+        positions.push(Vec3::new(x, y, z));
+        if let (Some(a), Some(b), Some(c)) =
+            (number(v, &["nx"]), number(v, &["ny"]), number(v, &["nz"]))
+        {
+            normals.push(Vec3::new(a, b, c));
+        }
+        if let (Some(u), Some(t)) = (
+            number(v, &["u", "s", "texture_u", "texture_s"]),
+            number(v, &["v", "t", "texture_v", "texture_t"]),
+        ) {
+            uvs.push(Vec2::new(u, t));
+        }
+    }
+    if normals.len() != positions.len() {
+        normals.clear();
+    }
+    if uvs.len() != positions.len() {
+        uvs.clear();
+    }
+    let mut triangles = Vec::new();
+    for (k, f) in payload.get("face").unwrap_or(&empty).iter().enumerate() {
+        let Some(list) = ["vertex_indices", "vertex_index"]
+            .iter()
+            .find_map(|n| f.get(*n))
+            .and_then(index_list)
+        else {
+            return Err(file_error(
+                path,
+                format!("face {k} has no vertex_indices list of integers"),
+            ));
+        };
+        if let Some(&bad) = list.iter().find(|&&i| i as usize >= positions.len()) {
+            return Err(file_error(
+                path,
+                format!(
+                    "face {k} uses vertex {bad}, but the file has {} vertices",
+                    positions.len()
+                ),
+            ));
+        }
+        fan(&list, &mut triangles);
+    }
+    if triangles.is_empty() {
+        return Err(file_error(path, "the PLY file has no faces"));
+    }
+    Ok(MeshFile {
+        parts: vec![MeshPart {
+            name: path
+                .file_stem()
+                .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
+            mesh: TriangleMesh {
+                positions,
+                normals,
+                uvs,
+                triangles,
+            },
+            material: None,
+        }],
+        warnings: Vec::new(),
+    })
+}
+
+/// Refuse declared element counts the file cannot hold (or that would need absurd memory)
+/// before anything is allocated: each element needs at least its fixed-size properties in
+/// binary, or two characters in ASCII.
+fn check_sizes(path: &Path, header: &Header, payload_bytes: u64) -> Result<()> {
+    let mut needed: u64 = 0;
+    for (name, def) in &header.elements {
+        let count = def.count as u64;
+        if count > MAX_ELEMENTS {
+            return Err(file_error(
+                path,
+                format!(
+                    "the header declares {count} '{name}' elements; at most {MAX_ELEMENTS} are accepted"
+                ),
+            ));
+        }
+        let per_element: u64 = match header.encoding {
+            Encoding::Ascii => 2,
+            Encoding::BinaryBigEndian | Encoding::BinaryLittleEndian => def
+                .properties
+                .values()
+                .map(|p| match &p.data_type {
+                    PropertyType::Scalar(s) => scalar_size(s),
+                    PropertyType::List(count, _) => scalar_size(count),
+                })
+                .sum::<u64>()
+                .max(1),
+        };
+        needed = needed.saturating_add(count.saturating_mul(per_element));
+    }
+    if needed > payload_bytes {
+        let counts: Vec<String> = header
+            .elements
+            .iter()
+            .map(|(n, d)| format!("{} {n}", d.count))
+            .collect();
+        return Err(file_error(
+            path,
+            format!(
+                "the header declares {} elements, which need at least {needed} bytes, but only {payload_bytes} bytes follow the header (truncated file?)",
+                counts.join(" and ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn scalar_size(s: &ScalarType) -> u64 {
+    match s {
+        ScalarType::Char | ScalarType::UChar => 1,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
+    }
+}
+
+fn scalar(p: &Property) -> Option<f32> {
+    Some(match *p {
+        Property::Float(x) => x,
+        Property::Double(x) => x as f32,
+        Property::Char(x) => f32::from(x),
+        Property::UChar(x) => f32::from(x),
+        Property::Short(x) => f32::from(x),
+        Property::UShort(x) => f32::from(x),
+        Property::Int(x) => x as f32,
+        Property::UInt(x) => x as f32,
+        _ => return None,
+    })
+}
+
+fn index_list(p: &Property) -> Option<Vec<u32>> {
+    let non_negative = |v: Vec<i64>| v.into_iter().map(|i| u32::try_from(i).ok()).collect();
+    match p {
+        Property::ListUInt(v) => Some(v.clone()),
+        Property::ListInt(v) => non_negative(v.iter().map(|&i| i64::from(i)).collect()),
+        Property::ListUShort(v) => Some(v.iter().map(|&i| u32::from(i)).collect()),
+        Property::ListShort(v) => non_negative(v.iter().map(|&i| i64::from(i)).collect()),
+        Property::ListUChar(v) => Some(v.iter().map(|&i| u32::from(i)).collect()),
+        Property::ListChar(v) => non_negative(v.iter().map(|&i| i64::from(i)).collect()),
+        _ => None,
+    }
+}

@@ -1,0 +1,335 @@
+//! Scene descriptions: what a scene file says, before it becomes a [`Scene`].
+//!
+//! A [`SceneDesc`] is the one data model behind every way of getting a scene: the built-in
+//! scenes are written as descriptions in code, `.toml` files are read into one
+//! ([`toml_read`]), any description can be written back as TOML ([`toml_write`]), and glTF files
+//! are imported as one ([`gltf`]). [`build`] turns a description into a renderable [`Scene`],
+//! reading the mesh and texture files it names. Because built-ins and files share that one
+//! path, a built-in exported as TOML and read back renders to the identical image.
+
+pub mod build;
+pub mod builtin;
+pub mod gltf;
+pub mod mesh;
+pub mod source;
+pub mod toml_read;
+pub mod toml_write;
+
+use crate::error::{Error, Result};
+use crate::math::{Rgb, Vec2, Vec3};
+use crate::scene::{Scene, TriangleMesh};
+use glam::{Affine3A, Mat4, Quat};
+use std::path::{Path, PathBuf};
+
+/// Everything a scene file can say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneDesc {
+    pub name: String,
+    pub camera: CameraSpec,
+    pub render: RenderSpec,
+    /// Named materials, in file order (the order fixes material indices, hence images).
+    pub materials: Vec<(String, MaterialSpec)>,
+    pub shapes: Vec<ShapeSpec>,
+    pub lights: Vec<LightSpec>,
+    /// Directory that relative file names are resolved against.
+    pub base_dir: PathBuf,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraSpec {
+    pub position: Vec3,
+    pub look_at: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view, degrees.
+    pub fov_y_deg: f32,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Render settings a scene may carry; the command line overrides each of them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RenderSpec {
+    pub integrator: Option<String>,
+    pub spp: Option<u32>,
+    pub seed: Option<u64>,
+    pub max_depth: Option<u32>,
+    pub light_samples: Option<u32>,
+    pub photons: Option<u64>,
+    pub caustic_photons: Option<u64>,
+    pub radius: Option<f32>,
+    pub gather_rays: Option<u32>,
+    pub passes: Option<u64>,
+    pub time: Option<f64>,
+}
+
+/// The integrators a scene file may name (the CLI's `--integrator` values).
+pub const INTEGRATORS: &[&str] = &["photon", "direct", "path", "sppm", "ppm"];
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialSpec {
+    /// Lambertian with a constant or textured albedo.
+    Diffuse {
+        albedo: ColorSpec,
+    },
+    Mirror {
+        reflectance: Rgb,
+    },
+    /// Smooth dielectric (Fresnel reflection and refraction).
+    Glass {
+        ior: f32,
+        transmittance: Rgb,
+    },
+}
+
+/// A colour: constant, or a texture (times a constant tint).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ColorSpec {
+    Constant(Rgb),
+    Image {
+        file: PathBuf,
+        tint: Rgb,
+    },
+    /// An image already in memory (glTF embedded textures); never written to TOML.
+    Decoded {
+        texture: SharedTexture,
+        tint: Rgb,
+    },
+    Checker {
+        even: Rgb,
+        odd: Rgb,
+        scale: Vec2,
+    },
+}
+
+/// A decoded texture shared between materials; equal when it is the same allocation.
+#[derive(Clone, Debug)]
+pub struct SharedTexture(pub std::sync::Arc<crate::texture::ImageTexture>);
+
+impl PartialEq for SharedTexture {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+/// Light leaving a surface, given as radiance or as total power.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EmissionSpec {
+    /// W·m⁻²·sr⁻¹ per channel.
+    Radiance { radiance: Rgb, two_sided: bool },
+    /// Total flux, W per channel, spread evenly over the surface.
+    Power { power: Rgb, two_sided: bool },
+}
+
+/// One step of an object's placement. A list of steps applies first to last.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TransformStep {
+    Translate(Vec3),
+    /// Rotation by `degrees` about `axis` (right-handed).
+    Rotate {
+        axis: Vec3,
+        degrees: f32,
+    },
+    Scale(Vec3),
+    /// A 4×4 matrix, row-major, last row (0, 0, 0, 1).
+    Matrix([f32; 16]),
+    /// Places the object at `from` with its +z axis toward `to` and +y toward `up`.
+    LookAt {
+        from: Vec3,
+        to: Vec3,
+        up: Vec3,
+    },
+}
+
+impl TransformStep {
+    pub fn to_affine(&self) -> Affine3A {
+        match *self {
+            TransformStep::Translate(t) => Affine3A::from_translation(t),
+            TransformStep::Rotate { axis, degrees } => Affine3A::from_quat(Quat::from_axis_angle(
+                axis.normalize_or(Vec3::Z),
+                degrees.to_radians(),
+            )),
+            TransformStep::Scale(s) => Affine3A::from_scale(s),
+            TransformStep::Matrix(m) => Affine3A::from_mat4(Mat4::from_cols_array(&m).transpose()),
+            TransformStep::LookAt { from, to, up } => {
+                let z = (to - from).normalize_or(Vec3::Z);
+                let x = up.cross(z).normalize_or(z.any_orthonormal_vector());
+                let y = z.cross(x);
+                Affine3A::from_cols(x.into(), y.into(), z.into(), from.into())
+            }
+        }
+    }
+}
+
+/// The composed object-to-world transform of a list of steps.
+pub fn compose(steps: &[TransformStep]) -> Affine3A {
+    steps
+        .iter()
+        .fold(Affine3A::IDENTITY, |acc, s| s.to_affine() * acc)
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ShapeKind {
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    Disk {
+        center: Vec3,
+        normal: Vec3,
+        radius: f32,
+    },
+    /// Planar quad; front side is where the vertices run counter-clockwise.
+    Quad {
+        vertices: [Vec3; 4],
+    },
+    /// Axis-aligned box with outward faces (transform it to turn it).
+    Box {
+        min: Vec3,
+        max: Vec3,
+    },
+    /// Triangles given in the file itself.
+    Triangles(TriangleMesh),
+    /// A mesh file: .obj, .ply, .gltf or .glb.
+    MeshFile {
+        file: PathBuf,
+        /// Interpolate the file's vertex normals (when it has them).
+        smooth: bool,
+    },
+    /// The procedural plant pot (lathe, solidify, Catmull–Clark, NURBS leaves).
+    Pot {
+        subdivisions: u32,
+        seed: u64,
+        soil_material: Option<String>,
+        leaf_material: Option<String>,
+    },
+}
+
+/// A shape with its material, placement and optional emission.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeSpec {
+    pub kind: ShapeKind,
+    /// Material name; `None` on an area light (black) or a mesh file (its own materials).
+    pub material: Option<String>,
+    pub transform: Vec<TransformStep>,
+    pub emission: Option<EmissionSpec>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightSpec {
+    /// Isotropic point light; `intensity` in W/sr (power = 4π·intensity).
+    Point {
+        position: Vec3,
+        intensity: Intensity,
+    },
+    Spot {
+        position: Vec3,
+        look_at: Vec3,
+        intensity: Intensity,
+        /// Half-angle of the cone, degrees.
+        angle_deg: f32,
+        /// Width of the soft edge inside the cone, degrees.
+        falloff_deg: f32,
+    },
+    /// An emissive shape (disk, quad, sphere, mesh …).
+    Area(ShapeSpec),
+}
+
+/// How bright a point or spot light is: intensity in W/sr, or total power in W.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Intensity {
+    Intensity(Rgb),
+    Power(Rgb),
+}
+
+impl SceneDesc {
+    /// An empty scene seen by `camera`; relative paths resolve against the working directory.
+    pub fn new(name: &str, camera: CameraSpec) -> Self {
+        Self {
+            name: name.to_owned(),
+            camera,
+            render: RenderSpec::default(),
+            materials: Vec::new(),
+            shapes: Vec::new(),
+            lights: Vec::new(),
+            base_dir: PathBuf::new(),
+        }
+    }
+
+    /// Add a named material; returns its name for use in shapes.
+    pub fn material(&mut self, name: &str, spec: MaterialSpec) -> String {
+        self.materials.push((name.to_owned(), spec));
+        name.to_owned()
+    }
+
+    /// Add a diffuse material of constant albedo.
+    pub fn diffuse(&mut self, name: &str, albedo: [f32; 3]) -> String {
+        self.material(
+            name,
+            MaterialSpec::Diffuse {
+                albedo: ColorSpec::Constant(Rgb::from_array(albedo)),
+            },
+        )
+    }
+
+    /// Add an untransformed, non-emitting shape.
+    pub fn shape(&mut self, kind: ShapeKind, material: &str) {
+        self.shapes.push(ShapeSpec {
+            kind,
+            material: Some(material.to_owned()),
+            transform: Vec::new(),
+            emission: None,
+        });
+    }
+}
+
+/// Where a scene came from and what the loader could not map.
+pub struct Loaded {
+    pub desc: SceneDesc,
+    /// One message per kind of thing that was not imported.
+    pub warnings: Vec<String>,
+}
+
+/// Load a scene: a built-in name, or a `.toml`, `.gltf` or `.glb` file.
+pub fn load(name_or_path: &str) -> Result<Loaded> {
+    if let Some(desc) = builtin::desc(name_or_path) {
+        return Ok(Loaded {
+            desc,
+            warnings: Vec::new(),
+        });
+    }
+    let path = Path::new(name_or_path);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("toml") => Ok(Loaded {
+            desc: toml_read::read_file(path)?,
+            warnings: Vec::new(),
+        }),
+        Some("gltf" | "glb") => gltf::import_scene(path),
+        _ if path.exists() => Err(Error::SceneFile(Box::new(source::Diagnostic::whole_file(
+            path,
+            "unsupported scene file; expected a .toml, .gltf or .glb file (put .obj and .ply meshes in a .toml scene)",
+        )))),
+        _ => Err(builtin::unknown(name_or_path)),
+    }
+}
+
+/// Load and build a scene, returning it with the description (for its render settings) and
+/// the loader's warnings.
+///
+/// A scene read from a file is named by the file's absolute path, which is what checkpoints
+/// and photon-map files record to find it again.
+pub fn load_scene(name_or_path: &str) -> Result<(Scene, Loaded)> {
+    let loaded = load(name_or_path)?;
+    let mut scene = build::build(&loaded.desc)?;
+    if builtin::desc(name_or_path).is_none() {
+        let path = Path::new(name_or_path);
+        scene.name = std::path::absolute(path)
+            .unwrap_or_else(|_| path.to_owned())
+            .to_string_lossy()
+            .into_owned();
+    }
+    Ok((scene, loaded))
+}

@@ -1,0 +1,145 @@
+//! Located diagnostics for scene and mesh files: the file, the line and column, what was
+//! expected, and the offending line of text underlined.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A problem in a file, with its location when the format has lines.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Diagnostic {
+    pub path: PathBuf,
+    /// 1-based line and column (in characters), when known.
+    pub line: Option<usize>,
+    pub column: Option<usize>,
+    pub message: String,
+    /// The source line and a caret line under the span, ready to print.
+    pub excerpt: Option<String>,
+}
+
+impl Diagnostic {
+    /// A problem with the file as a whole (missing, unreadable, wrong kind, binary data).
+    pub fn whole_file(path: &Path, message: impl Into<String>) -> Self {
+        Self {
+            path: path.to_owned(),
+            line: None,
+            column: None,
+            message: message.into(),
+            excerpt: None,
+        }
+    }
+
+    /// A problem at byte range `span` of the text `source` of file `path`.
+    pub fn at_span(
+        path: &Path,
+        source: &str,
+        span: std::ops::Range<usize>,
+        message: impl Into<String>,
+    ) -> Self {
+        let start = span.start.min(source.len());
+        let line_start = source[..start].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = source[start..]
+            .find('\n')
+            .map_or(source.len(), |i| start + i);
+        let line_text = source[line_start..line_end].trim_end_matches('\r');
+        let line = source[..start].matches('\n').count() + 1;
+        let column = source[line_start..start].chars().count() + 1;
+        let end = span.end.clamp(start, line_end.max(start));
+        let width = source[start..end].chars().count().max(1);
+        let number = line.to_string();
+        let pad = " ".repeat(number.len());
+        let excerpt = format!(
+            "{pad} |\n{number} | {line_text}\n{pad} | {}{}",
+            " ".repeat(column - 1),
+            "^".repeat(width)
+        );
+        Self {
+            path: path.to_owned(),
+            line: Some(line),
+            column: Some(column),
+            message: message.into(),
+            excerpt: Some(excerpt),
+        }
+    }
+
+    /// A problem on 1-based line `line` of `source` (column 1, the whole line underlined).
+    pub fn at_line(path: &Path, source: &str, line: usize, message: impl Into<String>) -> Self {
+        let start: usize = source
+            .split_inclusive('\n')
+            .take(line.saturating_sub(1))
+            .map(str::len)
+            .sum();
+        let end = source[start.min(source.len())..]
+            .find('\n')
+            .map_or(source.len(), |i| start + i);
+        Self::at_span(path, source, start..end, message)
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.path.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+            if let Some(col) = self.column {
+                write!(f, ":{col}")?;
+            }
+        }
+        write!(f, ": {}", self.message)?;
+        if let Some(e) = &self.excerpt {
+            write!(f, "\n{e}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The candidate nearest to `word` by edit distance, if it is close enough to be a likely typo.
+pub fn nearest<'a>(word: &str, candidates: &[&'a str]) -> Option<&'a str> {
+    candidates
+        .iter()
+        .map(|c| (edit_distance(word, c), *c))
+        .filter(|&(d, c)| d <= (c.len().max(word.len()) / 3).max(1))
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, c)| c)
+}
+
+/// Levenshtein distance (insert, delete, substitute; case-insensitive).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.to_lowercase().chars().collect();
+    let b: Vec<char> = b.to_lowercase().chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let next = (diagonal + usize::from(ca != cb))
+                .min(row[j] + 1)
+                .min(row[j + 1] + 1);
+            diagonal = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spans_become_lines_columns_and_carets() {
+        let src = "a = 1\nradus = 2\n";
+        let d = Diagnostic::at_span(Path::new("s.toml"), src, 6..11, "unknown key");
+        assert_eq!((d.line, d.column), (Some(2), Some(1)));
+        let text = d.to_string();
+        assert!(text.starts_with("s.toml:2:1: unknown key"), "{text}");
+        assert!(text.contains("2 | radus = 2\n  | ^^^^^"), "{text}");
+    }
+
+    #[test]
+    fn nearest_finds_typos_only() {
+        let keys = ["radius", "center", "material"];
+        assert_eq!(nearest("radus", &keys), Some("radius"));
+        assert_eq!(nearest("materail", &keys), Some("material"));
+        assert_eq!(nearest("colour", &keys), None);
+    }
+}

@@ -1,0 +1,341 @@
+//! Writing a [`SceneDesc`] as a `.toml` scene file that [`super::toml_read`] reads back to an
+//! equal description. Numbers are written in the shortest form that reads back to the same
+//! `f32`, so a written scene renders bit-identically.
+
+use super::{
+    ColorSpec, EmissionSpec, Intensity, LightSpec, MaterialSpec, SceneDesc, ShapeKind, ShapeSpec,
+    TransformStep,
+};
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use std::fmt::Write;
+use std::path::Path;
+
+/// The scene as TOML text. File names are written relative to `out_dir` when the scene's own
+/// directory is the same, else absolute.
+pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
+    let mut w = Writer {
+        out: String::new(),
+        base_dir: desc.base_dir.clone(),
+        out_dir: out_dir.to_owned(),
+    };
+    w.line(&format!(
+        "# Photon scene '{}'. Format: docs/scene-format.md",
+        desc.name
+    ));
+    w.kv("name", &string(&desc.name));
+    let c = &desc.camera;
+    w.section("[camera]");
+    w.kv("position", &vec3(c.position));
+    w.kv("look_at", &vec3(c.look_at));
+    w.kv("up", &vec3(c.up));
+    w.kv("fov", &float(c.fov_y_deg));
+    w.kv("resolution", &format!("[{}, {}]", c.width, c.height));
+    w.render(desc);
+    for (name, m) in &desc.materials {
+        w.section(&format!("[materials.{}]", key(name)));
+        match m {
+            MaterialSpec::Diffuse { albedo } => {
+                w.kv("type", "\"diffuse\"");
+                let value = w.color_spec(albedo)?;
+                w.kv("albedo", &value);
+            }
+            MaterialSpec::Mirror { reflectance } => {
+                w.kv("type", "\"mirror\"");
+                w.kv("reflectance", &vec3(*reflectance));
+            }
+            MaterialSpec::Glass { ior, transmittance } => {
+                w.kv("type", "\"glass\"");
+                w.kv("ior", &float(*ior));
+                w.kv("transmittance", &vec3(*transmittance));
+            }
+        }
+    }
+    for s in &desc.shapes {
+        w.section("[[shapes]]");
+        w.shape(s, false);
+    }
+    for l in &desc.lights {
+        w.section("[[lights]]");
+        match l {
+            LightSpec::Point {
+                position,
+                intensity,
+            } => {
+                w.kv("type", "\"point\"");
+                w.kv("position", &vec3(*position));
+                w.intensity(intensity);
+            }
+            LightSpec::Spot {
+                position,
+                look_at,
+                intensity,
+                angle_deg,
+                falloff_deg,
+            } => {
+                w.kv("type", "\"spot\"");
+                w.kv("position", &vec3(*position));
+                w.kv("look_at", &vec3(*look_at));
+                w.intensity(intensity);
+                w.kv("angle", &float(*angle_deg));
+                w.kv("falloff", &float(*falloff_deg));
+            }
+            LightSpec::Area(s) => w.shape(s, true),
+        }
+    }
+    Ok(w.out)
+}
+
+struct Writer {
+    out: String,
+    base_dir: std::path::PathBuf,
+    out_dir: std::path::PathBuf,
+}
+
+/// `f32` in its shortest round-trip form, always with a `.` or exponent so TOML reads a float.
+fn float(x: f32) -> String {
+    format!("{x:?}")
+}
+
+fn vec3(v: Vec3) -> String {
+    format!("[{}, {}, {}]", float(v.x), float(v.y), float(v.z))
+}
+
+fn string(s: &str) -> String {
+    toml::Value::String(s.to_owned()).to_string()
+}
+
+/// A table key, quoted unless it is a bare key.
+fn key(name: &str) -> String {
+    let bare = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare { name.to_owned() } else { string(name) }
+}
+
+impl Writer {
+    fn line(&mut self, s: &str) {
+        self.out.push_str(s);
+        self.out.push('\n');
+    }
+
+    fn section(&mut self, header: &str) {
+        self.out.push('\n');
+        self.line(header);
+    }
+
+    fn kv(&mut self, k: &str, v: &str) {
+        let _ = writeln!(self.out, "{k} = {v}");
+    }
+
+    fn path(&self, file: &Path) -> String {
+        let full = self.base_dir.join(file);
+        let shown = if self.base_dir == self.out_dir || file.is_absolute() {
+            file.to_owned()
+        } else {
+            std::path::absolute(&full).unwrap_or(full)
+        };
+        string(&shown.to_string_lossy())
+    }
+
+    fn render(&mut self, desc: &SceneDesc) {
+        let r = &desc.render;
+        let mut lines = Vec::new();
+        if let Some(i) = &r.integrator {
+            lines.push(("integrator", string(i)));
+        }
+        let ints = [
+            ("spp", r.spp.map(u64::from)),
+            ("seed", r.seed),
+            ("max_depth", r.max_depth.map(u64::from)),
+            ("light_samples", r.light_samples.map(u64::from)),
+            ("photons", r.photons),
+            ("caustic_photons", r.caustic_photons),
+            ("gather_rays", r.gather_rays.map(u64::from)),
+            ("passes", r.passes),
+        ];
+        for (k, v) in ints {
+            if let Some(v) = v {
+                lines.push((k, v.to_string()));
+            }
+        }
+        if let Some(x) = r.radius {
+            lines.push(("radius", float(x)));
+        }
+        if let Some(x) = r.time {
+            lines.push(("time", float(x as f32)));
+        }
+        if !lines.is_empty() {
+            self.section("[render]");
+            for (k, v) in lines {
+                self.kv(k, &v);
+            }
+        }
+    }
+
+    fn color_spec(&self, c: &ColorSpec) -> Result<String> {
+        Ok(match c {
+            ColorSpec::Constant(c) => vec3(*c),
+            ColorSpec::Image { file, tint } => {
+                format!(
+                    "{{ texture = {}, tint = {} }}",
+                    self.path(file),
+                    vec3(*tint)
+                )
+            }
+            ColorSpec::Checker { even, odd, scale } => format!(
+                "{{ checker = {{ even = {}, odd = {}, scale = [{}, {}] }} }}",
+                vec3(*even),
+                vec3(*odd),
+                float(scale.x),
+                float(scale.y)
+            ),
+            ColorSpec::Decoded { .. } => {
+                return Err(Error::InvalidScene(
+                    "a texture embedded in a glTF file cannot be written to a TOML scene; include the glTF file as a mesh instead".into(),
+                ));
+            }
+        })
+    }
+
+    fn intensity(&mut self, i: &Intensity) {
+        match i {
+            Intensity::Intensity(c) => self.kv("intensity", &vec3(*c)),
+            Intensity::Power(c) => self.kv("power", &vec3(*c)),
+        }
+    }
+
+    fn shape(&mut self, s: &ShapeSpec, is_light: bool) {
+        match &s.kind {
+            ShapeKind::Sphere { center, radius } => {
+                self.kv("type", "\"sphere\"");
+                self.kv("center", &vec3(*center));
+                self.kv("radius", &float(*radius));
+            }
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            } => {
+                self.kv("type", "\"disk\"");
+                self.kv("center", &vec3(*center));
+                self.kv("normal", &vec3(*normal));
+                self.kv("radius", &float(*radius));
+            }
+            ShapeKind::Quad { vertices } => {
+                self.kv("type", "\"quad\"");
+                let v: Vec<String> = vertices.iter().map(|&p| vec3(p)).collect();
+                self.kv("vertices", &format!("[{}]", v.join(", ")));
+            }
+            ShapeKind::Box { min, max } => {
+                self.kv("type", "\"box\"");
+                self.kv("min", &vec3(*min));
+                self.kv("max", &vec3(*max));
+            }
+            ShapeKind::MeshFile { file, smooth } => {
+                self.kv("type", "\"mesh\"");
+                let p = self.path(file);
+                self.kv("file", &p);
+                self.kv("smooth", &smooth.to_string());
+            }
+            ShapeKind::Triangles(m) => {
+                self.kv("type", "\"triangles\"");
+                let list = |items: Vec<String>| format!("[\n  {},\n]", items.join(",\n  "));
+                self.kv(
+                    "positions",
+                    &list(m.positions.iter().map(|&p| vec3(p)).collect()),
+                );
+                let tris = m
+                    .triangles
+                    .iter()
+                    .map(|t| format!("[{}, {}, {}]", t[0], t[1], t[2]))
+                    .collect();
+                self.kv("indices", &list(tris));
+                if !m.normals.is_empty() {
+                    self.kv(
+                        "normals",
+                        &list(m.normals.iter().map(|&n| vec3(n)).collect()),
+                    );
+                }
+                if !m.uvs.is_empty() {
+                    let uvs = m
+                        .uvs
+                        .iter()
+                        .map(|u| format!("[{}, {}]", float(u.x), float(u.y)))
+                        .collect();
+                    self.kv("uvs", &list(uvs));
+                }
+            }
+            ShapeKind::Pot {
+                subdivisions,
+                seed,
+                soil_material,
+                leaf_material,
+            } => {
+                self.kv("type", "\"pot\"");
+                self.kv("subdivisions", &subdivisions.to_string());
+                self.kv("seed", &seed.to_string());
+                if let Some(m) = soil_material {
+                    self.kv("soil_material", &string(m));
+                }
+                if let Some(m) = leaf_material {
+                    self.kv("leaf_material", &string(m));
+                }
+            }
+        }
+        if let Some(m) = &s.material {
+            self.kv("material", &string(m));
+        }
+        if !s.transform.is_empty() {
+            let steps: Vec<String> = s.transform.iter().map(step).collect();
+            self.kv("transform", &format!("[{}]", steps.join(", ")));
+        }
+        if let Some(e) = &s.emission {
+            let (k, c, two_sided) = match *e {
+                EmissionSpec::Radiance {
+                    radiance,
+                    two_sided,
+                } => ("radiance", radiance, two_sided),
+                EmissionSpec::Power { power, two_sided } => ("power", power, two_sided),
+            };
+            if is_light {
+                self.kv(k, &vec3(c));
+                self.kv("two_sided", &two_sided.to_string());
+            } else {
+                self.kv(
+                    "emission",
+                    &format!("{{ {k} = {}, two_sided = {two_sided} }}", vec3(c)),
+                );
+            }
+        }
+    }
+}
+
+fn step(s: &TransformStep) -> String {
+    match *s {
+        TransformStep::Translate(t) => format!("{{ translate = {} }}", vec3(t)),
+        TransformStep::Rotate { axis, degrees } => format!(
+            "{{ rotate = {{ axis = {}, angle = {} }} }}",
+            vec3(axis),
+            float(degrees)
+        ),
+        TransformStep::Scale(s) => format!("{{ scale = {} }}", vec3(s)),
+        TransformStep::Matrix(m) => {
+            let rows: Vec<String> = m
+                .chunks(4)
+                .map(|r| {
+                    let r: Vec<String> = r.iter().map(|&x| float(x)).collect();
+                    format!("[{}]", r.join(", "))
+                })
+                .collect();
+            format!("{{ matrix = [{}] }}", rows.join(", "))
+        }
+        TransformStep::LookAt { from, to, up } => format!(
+            "{{ look_at = {{ from = {}, to = {}, up = {} }} }}",
+            vec3(from),
+            vec3(to),
+            vec3(up)
+        ),
+    }
+}
