@@ -59,7 +59,11 @@ impl Bvh {
     }
 
     fn to_obvhs(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
-        obvhs::ray::Ray::new(Vec3A::from(ray.origin), Vec3A::from(ray.dir), 0.0, t_max)
+        // Adding +0 turns −0 into +0: obvhs inverts a −0 component to a negative number but
+        // picks the traversal order by `d < 0`, which is false for −0, and then misses (a
+        // straight-down ray built as −z has −0 in x and y).
+        let dir = Vec3A::from(ray.dir) + Vec3A::ZERO;
+        obvhs::ray::Ray::new(Vec3A::from(ray.origin), dir, 0.0, t_max)
     }
 
     /// Closest hit: `intersect(id, t_max)` returns the hit distance of primitive `id` below

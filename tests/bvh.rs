@@ -109,6 +109,23 @@ fn closest_hit_equals_brute_force_on_random_rays() {
 }
 
 #[test]
+fn axis_aligned_rays_with_negative_zero_components_hit() {
+    // −z as written in code is (−0, −0, −1); obvhs once missed such rays entirely.
+    let scene = random_scene(5, 300);
+    let mut rng = Rng::keyed(6, &[]);
+    let mut hits = 0;
+    for i in 0..6_000 {
+        let o = (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * 4.0;
+        let axis = [Vec3::X, Vec3::Y, Vec3::Z][i % 3];
+        let dir = if i % 2 == 0 { -axis } else { axis };
+        let ray = Ray::new(o, dir);
+        check(&scene, &ray, &format!("axis ray {i} {dir:?}"));
+        hits += usize::from(scene.intersect(&ray, f32::INFINITY).is_some());
+    }
+    assert!(hits > 500, "the test must exercise hits, got {hits}");
+}
+
+#[test]
 fn closest_hit_equals_brute_force_for_rays_starting_on_surfaces() {
     let scene = random_scene(3, 300);
     let mut rng = Rng::keyed(4, &[]);
