@@ -1,0 +1,387 @@
+//! Mesh and glTF files: OBJ/MTL materials, PLY in all three encodings, a glTF scene written here
+//! byte by byte, and the Blender-exported seed scene against the built-in one.
+
+mod common;
+
+use photon::description::gltf::{LUMENS_PER_WATT, import_scene};
+use photon::description::mesh::load_mesh_file;
+use photon::description::{
+    ColorSpec, EmissionSpec, Intensity, LightSpec, MaterialSpec, build::build,
+};
+use photon::film::{Image, PixelFilter};
+use photon::integrator::{DirectConfig, Integrator};
+use photon::light::Light;
+use photon::material::Material;
+use photon::math::{Ray, Rgb, Vec2, Vec3};
+use photon::render::{RenderSettings, render};
+use photon::scene::Scene;
+use serde_json::json;
+use std::path::Path;
+
+#[test]
+fn obj_with_mtl_maps_colours_lights_glass_mirrors_and_textures() {
+    let dir = common::temp_dir("obj");
+    std::fs::write(
+        dir.join("m.mtl"),
+        "newmtl paint\nKd 0.2 0.4 0.6\nillum 2\n\
+         newmtl lamp\nKd 0 0 0\nKe 3 2 1\n\
+         newmtl glass\nNi 1.7\nillum 7\n\
+         newmtl chrome\nKs 0.9 0.9 0.9\nillum 5\n\
+         newmtl wood\nKd 0.5 0.5 0.5\nmap_Kd wood.png\n",
+    )
+    .expect("mtl");
+    image::RgbImage::from_pixel(2, 2, image::Rgb([255, 128, 0]))
+        .save(dir.join("wood.png"))
+        .expect("png");
+    let mut obj = String::from("mtllib m.mtl\n");
+    for k in 0..5 {
+        let x = k as f32 * 2.0;
+        obj += &format!("v {x} 0 0\nv {} 0 0\nv {} 1 0\nv {x} 1 0\n", x + 1.0, x + 1.0);
+    }
+    obj += "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+    for (k, m) in ["paint", "lamp", "glass", "chrome", "wood"].iter().enumerate() {
+        let b = 4 * k + 1;
+        // Quads, the last one with negative (relative) indices.
+        if k == 4 {
+            obj += &format!("o part{k}\nusemtl {m}\nf -4/1 -3/2 -2/3 -1/4\n");
+        } else {
+            obj += &format!("o part{k}\nusemtl {m}\nf {b}/1 {}/2 {}/3 {}/4\n", b + 1, b + 2, b + 3);
+        }
+    }
+    std::fs::write(dir.join("m.obj"), obj).expect("obj");
+    let file = load_mesh_file(&dir.join("m.obj")).expect("reads");
+    assert_eq!(file.parts.len(), 5);
+    assert_eq!(file.triangle_count(), 10, "each quad is split in two");
+    let spec = |i: usize| file.parts[i].material.clone().expect("material");
+    assert_eq!(
+        spec(0).spec,
+        MaterialSpec::Diffuse {
+            albedo: ColorSpec::Constant(Rgb::new(0.2, 0.4, 0.6))
+        }
+    );
+    assert_eq!(
+        spec(1).emission,
+        Some(EmissionSpec::Radiance {
+            radiance: Rgb::new(3.0, 2.0, 1.0),
+            two_sided: false
+        })
+    );
+    assert!(matches!(spec(2).spec, MaterialSpec::Glass { ior, .. } if (ior - 1.7).abs() < 1e-6));
+    assert!(matches!(spec(3).spec, MaterialSpec::Mirror { reflectance } if (reflectance.x - 0.9).abs() < 1e-6));
+    assert!(matches!(&spec(4).spec, MaterialSpec::Diffuse { albedo: ColorSpec::Image { file, .. } } if file.ends_with("wood.png")));
+    assert_eq!(file.parts[4].mesh.uvs.len(), 4);
+
+    // In a scene: the file's materials, the lamp part is an area light of radiance Ke.
+    let toml = "[camera]\nposition = [5, 0.5, 10]\nlook_at = [5, 0.5, 0]\n[[shapes]]\ntype = \"mesh\"\nfile = \"m.obj\"\n";
+    let desc = photon::description::toml_read::read_str(toml, &dir.join("s.toml"), &dir)
+        .expect("reads");
+    let s = build(&desc).expect("builds");
+    let power = s.total_power();
+    assert!((power - Rgb::new(3.0, 2.0, 1.0) * std::f32::consts::PI).abs().max_element() < 1e-4);
+    let material_at = |x: f32| {
+        let h = s
+            .intersect(&Ray::new(Vec3::new(x, 0.5, 1.0), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY)
+            .expect("hit");
+        s.material_at(&h)
+    };
+    assert!(matches!(material_at(4.5), Material::Dielectric(_)));
+    assert!(matches!(material_at(6.5), Material::Mirror(_)));
+    match material_at(8.5) {
+        // sRGB (255, 128, 0) → linear (1, 0.2158, 0): the texture, not Kd.
+        Material::Lambertian(l) => assert!((l.albedo - Rgb::new(1.0, 0.2158, 0.0)).abs().max_element() < 1e-3, "{:?}", l.albedo),
+        other => panic!("{other:?}"),
+    }
+
+    // With a material override every part takes it and nothing emits.
+    let toml = format!("{toml}material = \"grey\"\n[materials.grey]\ntype = \"diffuse\"\n[[lights]]\ntype = \"point\"\nposition = [0, 0, 1]\npower = 1\n");
+    let desc = photon::description::toml_read::read_str(&toml, &dir.join("s.toml"), &dir)
+        .expect("reads");
+    let s = build(&desc).expect("builds");
+    assert!((s.total_power().x - 1.0).abs() < 1e-5, "only the point light emits");
+}
+
+/// One PLY mesh (a quad and a triangle, with normals and UVs) in the given encoding.
+fn ply(format: &str) -> Vec<u8> {
+    let v: [[f32; 8]; 5] = [
+        [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+        [0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0],
+        [0.5, 2.0, 0.0, 0.0, 0.0, 1.0, 0.5, 1.5],
+    ];
+    let faces: [&[u32]; 2] = [&[0, 1, 2, 3], &[3, 2, 4]];
+    let mut out = format!(
+        "ply\nformat {format} 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\nelement face 2\nproperty list uchar uint vertex_indices\nend_header\n"
+    )
+    .into_bytes();
+    let big = format == "binary_big_endian";
+    for row in &v {
+        for &x in row {
+            match format {
+                "ascii" => out.extend(format!("{x} ").into_bytes()),
+                _ if big => out.extend(x.to_be_bytes()),
+                _ => out.extend(x.to_le_bytes()),
+            }
+        }
+        if format == "ascii" {
+            out.push(b'\n');
+        }
+    }
+    for f in faces {
+        match format {
+            "ascii" => {
+                let idx: Vec<String> = f.iter().map(u32::to_string).collect();
+                out.extend(format!("{} {}\n", f.len(), idx.join(" ")).into_bytes());
+            }
+            _ => {
+                out.push(f.len() as u8);
+                for &i in f {
+                    out.extend(if big { i.to_be_bytes() } else { i.to_le_bytes() });
+                }
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn ply_reads_the_same_mesh_in_ascii_and_both_binary_encodings() {
+    let dir = common::temp_dir("ply");
+    let mut meshes = Vec::new();
+    for format in ["ascii", "binary_little_endian", "binary_big_endian"] {
+        let path = dir.join(format!("{format}.ply"));
+        std::fs::write(&path, ply(format)).expect("write");
+        let file = load_mesh_file(&path).unwrap_or_else(|e| panic!("{format}: {e}"));
+        assert_eq!(file.parts.len(), 1);
+        meshes.push(file.parts[0].mesh.clone());
+    }
+    let m = &meshes[0];
+    assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [3, 2, 4]], "polygons are fanned");
+    assert_eq!(m.normals.len(), 5);
+    assert_eq!(m.uvs[4], Vec2::new(0.5, 1.5));
+    assert_eq!(meshes[1], *m);
+    assert_eq!(meshes[2], *m);
+}
+
+/// A binary glTF (GLB) from its JSON and binary chunk.
+fn glb(doc: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
+    let mut json = serde_json::to_vec(doc).expect("json");
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::new();
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    out.extend((json.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(json);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(bin);
+    out
+}
+
+/// A unit quad in the xy plane (z = 0) facing +z: positions, normals, UVs, indices.
+fn quad_buffer() -> (Vec<u8>, serde_json::Value, serde_json::Value) {
+    let mut bin = Vec::new();
+    for p in [[-0.5f32, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]] {
+        p.iter().for_each(|x| bin.extend(x.to_le_bytes()));
+    }
+    for _ in 0..4 {
+        [0.0f32, 0.0, 1.0].iter().for_each(|x| bin.extend(x.to_le_bytes()));
+    }
+    for uv in [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]] {
+        uv.iter().for_each(|x| bin.extend(x.to_le_bytes()));
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bin.extend(i.to_le_bytes());
+    }
+    let views = json!([
+        {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+        {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+        {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+        {"buffer": 0, "byteOffset": 128, "byteLength": 12}
+    ]);
+    let accessors = json!([
+        {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0.0], "max": [0.5, 0.5, 0.0]},
+        {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+        {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+        {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}
+    ]);
+    (bin, views, accessors)
+}
+
+/// The test scene: four quads (glass, mirror, emitter, blue diffuse) under a parent node,
+/// a camera, a point and a spot light.
+pub fn test_gltf() -> Vec<u8> {
+    let (bin, views, accessors) = quad_buffer();
+    let prim = |m: u32| json!({"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": m}]});
+    let doc = json!({
+        "asset": {"version": "2.0", "generator": "photon tests"},
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "point", "color": [1.0, 0.5, 0.25], "intensity": 683.0},
+            {"type": "spot", "intensity": 1366.0, "spot": {"innerConeAngle": 0.3, "outerConeAngle": 0.5}}
+        ]}},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 5, 6, 7]}],
+        "nodes": [
+            {"name": "group", "translation": [0.0, 0.0, -1.0], "children": [1, 2, 3, 4]},
+            {"name": "glass", "mesh": 0, "translation": [-1.5, 0.0, 0.0]},
+            {"name": "mirror", "mesh": 1, "translation": [-0.5, 0.0, 0.0]},
+            {"name": "lamp", "mesh": 2, "translation": [0.5, 0.0, 0.0], "scale": [0.5, 0.5, 0.5]},
+            {"name": "blue", "mesh": 3, "translation": [1.5, 0.0, 0.0], "rotation": [0.0, 0.0, 0.7071068, 0.7071068]},
+            {"name": "camera", "camera": 0, "translation": [0.0, 0.0, 4.0]},
+            {"name": "bulb", "translation": [0.0, 3.0, 0.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"name": "spot", "translation": [0.0, 2.0, 1.0], "rotation": [-0.7071068, 0.0, 0.0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 1}}}
+        ],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 2.0, "znear": 0.1}}],
+        "materials": [
+            {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0}, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.45}}},
+            {"name": "mirror", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1.0], "metallicFactor": 1.0, "roughnessFactor": 0.0}},
+            {"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0], "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}, "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}},
+            {"name": "blue", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0], "metallicFactor": 0.0}, "alphaMode": "BLEND"}
+        ],
+        "meshes": [prim(0), prim(1), prim(2), prim(3)],
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": bin.len()}]
+    });
+    glb(&doc, &bin)
+}
+
+#[test]
+fn gltf_scene_imports_geometry_camera_lights_and_materials() {
+    let dir = common::temp_dir("gltf");
+    let path = dir.join("test.glb");
+    std::fs::write(&path, test_gltf()).expect("write");
+    let loaded = import_scene(&path).expect("imports");
+    let d = &loaded.desc;
+    // Camera: at the node's position, looking down −z, 512 high with the 2:1 aspect ratio.
+    assert_eq!(d.camera.position, Vec3::new(0.0, 0.0, 4.0));
+    assert!((d.camera.look_at - Vec3::new(0.0, 0.0, 3.0)).length() < 1e-6);
+    assert!((d.camera.fov_y_deg - 0.8f32.to_degrees()).abs() < 1e-4);
+    assert_eq!((d.camera.width, d.camera.height), (1024, 512));
+    // Lights: candela / 683 = W/sr, colour applied; the spot turned to point down.
+    assert_eq!(d.lights.len(), 2);
+    match &d.lights[0] {
+        LightSpec::Point { position, intensity: Intensity::Intensity(i) } => {
+            assert_eq!(*position, Vec3::new(0.0, 3.0, 0.0));
+            assert!((*i - Rgb::new(1.0, 0.5, 0.25) * 683.0 / LUMENS_PER_WATT).abs().max_element() < 1e-6);
+        }
+        other => panic!("{other:?}"),
+    }
+    match &d.lights[1] {
+        LightSpec::Spot { position, look_at, intensity: Intensity::Intensity(i), angle_deg, falloff_deg } => {
+            assert_eq!(*position, Vec3::new(0.0, 2.0, 1.0));
+            assert!((*look_at - *position - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-5, "{look_at:?}");
+            assert!((i.x - 2.0).abs() < 1e-6);
+            assert!((angle_deg - 0.5f32.to_degrees()).abs() < 1e-4);
+            assert!((falloff_deg - 0.2f32.to_degrees()).abs() < 1e-4);
+        }
+        other => panic!("{other:?}"),
+    }
+    // The blend mode cannot be mapped: one warning says so.
+    assert!(loaded.warnings.iter().any(|w| w.contains("alpha")), "{:?}", loaded.warnings);
+
+    let s = build(d).expect("builds");
+    // Geometry: each quad where its nodes put it (parent at z = −1, children along x).
+    let probe = |x: f32, y: f32| {
+        s.intersect(&Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY)
+    };
+    for x in [-1.5, -0.5, 1.5] {
+        let h = probe(x, 0.0).expect("quad");
+        assert!((h.p.z + 1.0).abs() < 1e-5, "quad at z = −1, got {:?}", h.p);
+    }
+    assert!(probe(0.1, 0.0).is_none(), "gap between the mirror and the lamp");
+    assert!(probe(0.5 + 0.3, 0.0).is_none(), "the lamp is scaled to 0.5");
+    assert!(matches!(s.material_at(&probe(-1.5, 0.0).expect("glass")), Material::Dielectric(d) if (d.ior - 1.45).abs() < 1e-6));
+    assert!(matches!(s.material_at(&probe(-0.5, 0.0).expect("mirror")), Material::Mirror(m) if (m.reflectance.x - 0.9).abs() < 1e-6));
+    let blue = s.material_at(&probe(1.5, 0.0).expect("blue"));
+    assert!(matches!(blue, Material::Lambertian(l) if l.albedo == Rgb::new(0.2, 0.4, 0.6)));
+    // The rotated blue quad keeps facing +z; its normal is turned by the node's rotation.
+    assert!((probe(1.5, 0.0).expect("blue").ns - Vec3::Z).length() < 1e-5);
+    // The emissive quad (0.5 × 0.5, one-sided) is an area light of radiance 5.
+    let area = s
+        .lights()
+        .iter()
+        .find_map(|l| match l {
+            Light::Area(a) => Some(a),
+            _ => None,
+        })
+        .expect("emissive mesh light");
+    assert!((area.area() - 0.25).abs() < 1e-5);
+    assert!((area.power().x - 5.0 * std::f32::consts::PI * 0.25).abs() < 1e-4);
+    assert_eq!(s.lights().len(), 3);
+}
+
+fn direct_render(scene: &Scene, size: u32) -> Image {
+    let integrator = Integrator::Direct(DirectConfig::default());
+    let s = RenderSettings {
+        width: size,
+        height: size,
+        spp: 4,
+        seed: 1,
+        filter: PixelFilter::Box,
+    };
+    render(scene, &integrator, &s, &|_, _| {}).expect("renders").image
+}
+
+fn mean(img: &Image, x0: u32, x1: u32, y0: u32, y1: u32) -> Rgb {
+    let mut sum = Rgb::ZERO;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            sum += img.pixels[(y * img.width + x) as usize];
+        }
+    }
+    sum / ((x1 - x0) * (y1 - y0)) as f32
+}
+
+#[test]
+fn blender_seed_scene_renders_with_the_seed_framing_and_walls() {
+    let path = common::shared_dir().join("seed/seed_scene.glb");
+    let loaded = import_scene(&path).expect("imports the Blender export");
+    let seed = photon::description::builtin::desc("seed").expect("built-in");
+    // glTF is y-up: (x, y, z) in the file is (x, −z, y) in the seed's z-up frame.
+    let c = &loaded.desc.camera;
+    let zup = |v: Vec3| Vec3::new(v.x, -v.z, v.y);
+    assert!((zup(c.position) - seed.camera.position).length() < 1e-4, "{:?}", c.position);
+    assert!((zup(c.look_at - c.position).normalize() - (seed.camera.look_at - seed.camera.position).normalize()).length() < 1e-5);
+    assert!((c.fov_y_deg - seed.camera.fov_y_deg).abs() < 0.01, "fov {}", c.fov_y_deg);
+    let glb = build(&loaded.desc).expect("builds");
+    let builtin = build(&seed).expect("builds");
+    // The disk light is a tessellated emissive mesh of radiance Φ / π²: power within 2%.
+    let (p, q) = (glb.total_power().x, builtin.total_power().x);
+    assert!((p / q - 1.0).abs() < 0.02, "light power {p} vs {q}");
+    let n = 48;
+    let (a, b) = (direct_render(&glb, n), direct_render(&builtin, n));
+    // Left wall red, right wall green, back wall grey, in both and alike.
+    for (img, what) in [(&a, "glb"), (&b, "built-in")] {
+        let left = mean(img, 0, 4, 10, 38);
+        let right = mean(img, n - 4, n, 10, 38);
+        let back = mean(img, 18, 30, 6, 12);
+        assert!(left.x > 5.0 * left.y.max(1e-4) && left.x > 5.0 * left.z.max(1e-4), "{what}: left wall {left:?}");
+        assert!(right.y > 5.0 * right.x.max(1e-4) && right.y > 5.0 * right.z.max(1e-4), "{what}: right wall {right:?}");
+        assert!((back.x - back.y).abs() < 0.1 * back.x && back.x > 0.0, "{what}: back wall {back:?}");
+    }
+    for (x0, x1, y0, y1) in [(0, 4, 10, 38), (n - 4, n, 10, 38), (18, 30, 6, 12), (30, 44, 40, 48)] {
+        let (ma, mb) = (mean(&a, x0, x1, y0, y1), mean(&b, x0, x1, y0, y1));
+        let ratio = ma.max_element() / mb.max_element();
+        assert!((ratio - 1.0).abs() < 0.1, "region ({x0}..{x1}, {y0}..{y1}): {ma:?} vs {mb:?}");
+    }
+}
+
+#[test]
+fn mesh_files_need_a_known_extension() {
+    let dir = common::temp_dir("ext");
+    std::fs::write(dir.join("x.stl"), "solid x").expect("write");
+    let e = load_mesh_file(&dir.join("x.stl")).err().expect("refused").to_string();
+    assert!(e.contains("unsupported mesh format"), "{e}");
+    assert!(load_mesh_file(Path::new("/nonexistent/x.obj")).is_err());
+}
