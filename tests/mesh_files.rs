@@ -36,16 +36,28 @@ fn obj_with_mtl_maps_colours_lights_glass_mirrors_and_textures() {
     let mut obj = String::from("mtllib m.mtl\n");
     for k in 0..5 {
         let x = k as f32 * 2.0;
-        obj += &format!("v {x} 0 0\nv {} 0 0\nv {} 1 0\nv {x} 1 0\n", x + 1.0, x + 1.0);
+        obj += &format!(
+            "v {x} 0 0\nv {} 0 0\nv {} 1 0\nv {x} 1 0\n",
+            x + 1.0,
+            x + 1.0
+        );
     }
     obj += "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
-    for (k, m) in ["paint", "lamp", "glass", "chrome", "wood"].iter().enumerate() {
+    for (k, m) in ["paint", "lamp", "glass", "chrome", "wood"]
+        .iter()
+        .enumerate()
+    {
         let b = 4 * k + 1;
         // Quads, the last one with negative (relative) indices.
         if k == 4 {
             obj += &format!("o part{k}\nusemtl {m}\nf -4/1 -3/2 -2/3 -1/4\n");
         } else {
-            obj += &format!("o part{k}\nusemtl {m}\nf {b}/1 {}/2 {}/3 {}/4\n", b + 1, b + 2, b + 3);
+            obj += &format!(
+                "o part{k}\nusemtl {m}\nf {b}/1 {}/2 {}/3 {}/4\n",
+                b + 1,
+                b + 2,
+                b + 3
+            );
         }
     }
     std::fs::write(dir.join("m.obj"), obj).expect("obj");
@@ -67,20 +79,32 @@ fn obj_with_mtl_maps_colours_lights_glass_mirrors_and_textures() {
         })
     );
     assert!(matches!(spec(2).spec, MaterialSpec::Glass { ior, .. } if (ior - 1.7).abs() < 1e-6));
-    assert!(matches!(spec(3).spec, MaterialSpec::Mirror { reflectance } if (reflectance.x - 0.9).abs() < 1e-6));
-    assert!(matches!(&spec(4).spec, MaterialSpec::Diffuse { albedo: ColorSpec::Image { file, .. } } if file.ends_with("wood.png")));
+    assert!(
+        matches!(spec(3).spec, MaterialSpec::Mirror { reflectance } if (reflectance.x - 0.9).abs() < 1e-6)
+    );
+    assert!(
+        matches!(&spec(4).spec, MaterialSpec::Diffuse { albedo: ColorSpec::Image { file, .. } } if file.ends_with("wood.png"))
+    );
     assert_eq!(file.parts[4].mesh.uvs.len(), 4);
 
     // In a scene: the file's materials, the lamp part is an area light of radiance Ke.
     let toml = "[camera]\nposition = [5, 0.5, 10]\nlook_at = [5, 0.5, 0]\n[[shapes]]\ntype = \"mesh\"\nfile = \"m.obj\"\n";
-    let desc = photon::description::toml_read::read_str(toml, &dir.join("s.toml"), &dir)
-        .expect("reads");
+    let desc =
+        photon::description::toml_read::read_str(toml, &dir.join("s.toml"), &dir).expect("reads");
     let s = build(&desc).expect("builds");
     let power = s.total_power();
-    assert!((power - Rgb::new(3.0, 2.0, 1.0) * std::f32::consts::PI).abs().max_element() < 1e-4);
+    assert!(
+        (power - Rgb::new(3.0, 2.0, 1.0) * std::f32::consts::PI)
+            .abs()
+            .max_element()
+            < 1e-4
+    );
     let material_at = |x: f32| {
         let h = s
-            .intersect(&Ray::new(Vec3::new(x, 0.5, 1.0), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY)
+            .intersect(
+                &Ray::new(Vec3::new(x, 0.5, 1.0), Vec3::new(0.0, 0.0, -1.0)),
+                f32::INFINITY,
+            )
             .expect("hit");
         s.material_at(&h)
     };
@@ -88,16 +112,25 @@ fn obj_with_mtl_maps_colours_lights_glass_mirrors_and_textures() {
     assert!(matches!(material_at(6.5), Material::Mirror(_)));
     match material_at(8.5) {
         // sRGB (255, 128, 0) → linear (1, 0.2158, 0): the texture, not Kd.
-        Material::Lambertian(l) => assert!((l.albedo - Rgb::new(1.0, 0.2158, 0.0)).abs().max_element() < 1e-3, "{:?}", l.albedo),
+        Material::Lambertian(l) => assert!(
+            (l.albedo - Rgb::new(1.0, 0.2158, 0.0)).abs().max_element() < 1e-3,
+            "{:?}",
+            l.albedo
+        ),
         other => panic!("{other:?}"),
     }
 
     // With a material override every part takes it and nothing emits.
-    let toml = format!("{toml}material = \"grey\"\n[materials.grey]\ntype = \"diffuse\"\n[[lights]]\ntype = \"point\"\nposition = [0, 0, 1]\npower = 1\n");
-    let desc = photon::description::toml_read::read_str(&toml, &dir.join("s.toml"), &dir)
-        .expect("reads");
+    let toml = format!(
+        "{toml}material = \"grey\"\n[materials.grey]\ntype = \"diffuse\"\n[[lights]]\ntype = \"point\"\nposition = [0, 0, 1]\npower = 1\n"
+    );
+    let desc =
+        photon::description::toml_read::read_str(&toml, &dir.join("s.toml"), &dir).expect("reads");
     let s = build(&desc).expect("builds");
-    assert!((s.total_power().x - 1.0).abs() < 1e-5, "only the point light emits");
+    assert!(
+        (s.total_power().x - 1.0).abs() < 1e-5,
+        "only the point light emits"
+    );
 }
 
 /// One PLY mesh (a quad and a triangle, with normals and UVs) in the given encoding.
@@ -136,7 +169,11 @@ fn ply(format: &str) -> Vec<u8> {
             _ => {
                 out.push(f.len() as u8);
                 for &i in f {
-                    out.extend(if big { i.to_be_bytes() } else { i.to_le_bytes() });
+                    out.extend(if big {
+                        i.to_be_bytes()
+                    } else {
+                        i.to_le_bytes()
+                    });
                 }
             }
         }
@@ -156,7 +193,11 @@ fn ply_reads_the_same_mesh_in_ascii_and_both_binary_encodings() {
         meshes.push(file.parts[0].mesh.clone());
     }
     let m = &meshes[0];
-    assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [3, 2, 4]], "polygons are fanned");
+    assert_eq!(
+        m.triangles,
+        vec![[0, 1, 2], [0, 2, 3], [3, 2, 4]],
+        "polygons are fanned"
+    );
     assert_eq!(m.normals.len(), 5);
     assert_eq!(m.uvs[4], Vec2::new(0.5, 1.5));
     assert_eq!(meshes[1], *m);
@@ -166,11 +207,11 @@ fn ply_reads_the_same_mesh_in_ascii_and_both_binary_encodings() {
 /// A binary glTF (GLB) from its JSON and binary chunk.
 fn glb(doc: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
     let mut json = serde_json::to_vec(doc).expect("json");
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let mut bin = bin.to_vec();
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();
@@ -190,11 +231,18 @@ fn glb(doc: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
 /// A unit quad in the xy plane (z = 0) facing +z: positions, normals, UVs, indices.
 fn quad_buffer() -> (Vec<u8>, serde_json::Value, serde_json::Value) {
     let mut bin = Vec::new();
-    for p in [[-0.5f32, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]] {
+    for p in [
+        [-0.5f32, -0.5, 0.0],
+        [0.5, -0.5, 0.0],
+        [0.5, 0.5, 0.0],
+        [-0.5, 0.5, 0.0],
+    ] {
         p.iter().for_each(|x| bin.extend(x.to_le_bytes()));
     }
     for _ in 0..4 {
-        [0.0f32, 0.0, 1.0].iter().for_each(|x| bin.extend(x.to_le_bytes()));
+        [0.0f32, 0.0, 1.0]
+            .iter()
+            .for_each(|x| bin.extend(x.to_le_bytes()));
     }
     for uv in [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]] {
         uv.iter().for_each(|x| bin.extend(x.to_le_bytes()));
@@ -222,6 +270,7 @@ fn quad_buffer() -> (Vec<u8>, serde_json::Value, serde_json::Value) {
 pub fn test_gltf() -> Vec<u8> {
     let (bin, views, accessors) = quad_buffer();
     let prim = |m: u32| json!({"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": m}]});
+    let h = std::f32::consts::FRAC_1_SQRT_2;
     let doc = json!({
         "asset": {"version": "2.0", "generator": "photon tests"},
         "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength"],
@@ -236,10 +285,10 @@ pub fn test_gltf() -> Vec<u8> {
             {"name": "glass", "mesh": 0, "translation": [-1.5, 0.0, 0.0]},
             {"name": "mirror", "mesh": 1, "translation": [-0.5, 0.0, 0.0]},
             {"name": "lamp", "mesh": 2, "translation": [0.5, 0.0, 0.0], "scale": [0.5, 0.5, 0.5]},
-            {"name": "blue", "mesh": 3, "translation": [1.5, 0.0, 0.0], "rotation": [0.0, 0.0, 0.7071068, 0.7071068]},
+            {"name": "blue", "mesh": 3, "translation": [1.5, 0.0, 0.0], "rotation": [0.0, 0.0, h, h]},
             {"name": "camera", "camera": 0, "translation": [0.0, 0.0, 4.0]},
             {"name": "bulb", "translation": [0.0, 3.0, 0.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
-            {"name": "spot", "translation": [0.0, 2.0, 1.0], "rotation": [-0.7071068, 0.0, 0.0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 1}}}
+            {"name": "spot", "translation": [0.0, 2.0, 1.0], "rotation": [-h, 0.0, 0.0, h], "extensions": {"KHR_lights_punctual": {"light": 1}}}
         ],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 2.0, "znear": 0.1}}],
         "materials": [
@@ -271,16 +320,33 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
     // Lights: candela / 683 = W/sr, colour applied; the spot turned to point down.
     assert_eq!(d.lights.len(), 2);
     match &d.lights[0] {
-        LightSpec::Point { position, intensity: Intensity::Intensity(i) } => {
+        LightSpec::Point {
+            position,
+            intensity: Intensity::Intensity(i),
+        } => {
             assert_eq!(*position, Vec3::new(0.0, 3.0, 0.0));
-            assert!((*i - Rgb::new(1.0, 0.5, 0.25) * 683.0 / LUMENS_PER_WATT).abs().max_element() < 1e-6);
+            assert!(
+                (*i - Rgb::new(1.0, 0.5, 0.25) * 683.0 / LUMENS_PER_WATT)
+                    .abs()
+                    .max_element()
+                    < 1e-6
+            );
         }
         other => panic!("{other:?}"),
     }
     match &d.lights[1] {
-        LightSpec::Spot { position, look_at, intensity: Intensity::Intensity(i), angle_deg, falloff_deg } => {
+        LightSpec::Spot {
+            position,
+            look_at,
+            intensity: Intensity::Intensity(i),
+            angle_deg,
+            falloff_deg,
+        } => {
             assert_eq!(*position, Vec3::new(0.0, 2.0, 1.0));
-            assert!((*look_at - *position - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-5, "{look_at:?}");
+            assert!(
+                (*look_at - *position - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-5,
+                "{look_at:?}"
+            );
             assert!((i.x - 2.0).abs() < 1e-6);
             assert!((angle_deg - 0.5f32.to_degrees()).abs() < 1e-4);
             assert!((falloff_deg - 0.2f32.to_degrees()).abs() < 1e-4);
@@ -288,21 +354,35 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
         other => panic!("{other:?}"),
     }
     // The blend mode cannot be mapped: one warning says so.
-    assert!(loaded.warnings.iter().any(|w| w.contains("alpha")), "{:?}", loaded.warnings);
+    assert!(
+        loaded.warnings.iter().any(|w| w.contains("alpha")),
+        "{:?}",
+        loaded.warnings
+    );
 
     let s = build(d).expect("builds");
     // Geometry: each quad where its nodes put it (parent at z = −1, children along x).
     let probe = |x: f32, y: f32| {
-        s.intersect(&Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.0, 0.0, -1.0)), f32::INFINITY)
+        s.intersect(
+            &Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.0, 0.0, -1.0)),
+            f32::INFINITY,
+        )
     };
     for x in [-1.5, -0.5, 1.5] {
         let h = probe(x, 0.0).expect("quad");
         assert!((h.p.z + 1.0).abs() < 1e-5, "quad at z = −1, got {:?}", h.p);
     }
-    assert!(probe(0.1, 0.0).is_none(), "gap between the mirror and the lamp");
+    assert!(
+        probe(0.1, 0.0).is_none(),
+        "gap between the mirror and the lamp"
+    );
     assert!(probe(0.5 + 0.3, 0.0).is_none(), "the lamp is scaled to 0.5");
-    assert!(matches!(s.material_at(&probe(-1.5, 0.0).expect("glass")), Material::Dielectric(d) if (d.ior - 1.45).abs() < 1e-6));
-    assert!(matches!(s.material_at(&probe(-0.5, 0.0).expect("mirror")), Material::Mirror(m) if (m.reflectance.x - 0.9).abs() < 1e-6));
+    assert!(
+        matches!(s.material_at(&probe(-1.5, 0.0).expect("glass")), Material::Dielectric(d) if (d.ior - 1.45).abs() < 1e-6)
+    );
+    assert!(
+        matches!(s.material_at(&probe(-0.5, 0.0).expect("mirror")), Material::Mirror(m) if (m.reflectance.x - 0.9).abs() < 1e-6)
+    );
     let blue = s.material_at(&probe(1.5, 0.0).expect("blue"));
     assert!(matches!(blue, Material::Lambertian(l) if l.albedo == Rgb::new(0.2, 0.4, 0.6)));
     // The rotated blue quad keeps facing +z; its normal is turned by the node's rotation.
@@ -330,7 +410,9 @@ fn direct_render(scene: &Scene, size: u32) -> Image {
         seed: 1,
         filter: PixelFilter::Box,
     };
-    render(scene, &integrator, &s, &|_, _| {}).expect("renders").image
+    render(scene, &integrator, &s, &|_, _| {})
+        .expect("renders")
+        .image
 }
 
 fn mean(img: &Image, x0: u32, x1: u32, y0: u32, y1: u32) -> Rgb {
@@ -351,9 +433,22 @@ fn blender_seed_scene_renders_with_the_seed_framing_and_walls() {
     // glTF is y-up: (x, y, z) in the file is (x, −z, y) in the seed's z-up frame.
     let c = &loaded.desc.camera;
     let zup = |v: Vec3| Vec3::new(v.x, -v.z, v.y);
-    assert!((zup(c.position) - seed.camera.position).length() < 1e-4, "{:?}", c.position);
-    assert!((zup(c.look_at - c.position).normalize() - (seed.camera.look_at - seed.camera.position).normalize()).length() < 1e-5);
-    assert!((c.fov_y_deg - seed.camera.fov_y_deg).abs() < 0.01, "fov {}", c.fov_y_deg);
+    assert!(
+        (zup(c.position) - seed.camera.position).length() < 1e-4,
+        "{:?}",
+        c.position
+    );
+    assert!(
+        (zup(c.look_at - c.position).normalize()
+            - (seed.camera.look_at - seed.camera.position).normalize())
+        .length()
+            < 1e-5
+    );
+    assert!(
+        (c.fov_y_deg - seed.camera.fov_y_deg).abs() < 0.01,
+        "fov {}",
+        c.fov_y_deg
+    );
     let glb = build(&loaded.desc).expect("builds");
     let builtin = build(&seed).expect("builds");
     // The disk light is a tessellated emissive mesh of radiance Φ / π²: power within 2%.
@@ -366,14 +461,31 @@ fn blender_seed_scene_renders_with_the_seed_framing_and_walls() {
         let left = mean(img, 0, 4, 10, 38);
         let right = mean(img, n - 4, n, 10, 38);
         let back = mean(img, 18, 30, 6, 12);
-        assert!(left.x > 5.0 * left.y.max(1e-4) && left.x > 5.0 * left.z.max(1e-4), "{what}: left wall {left:?}");
-        assert!(right.y > 5.0 * right.x.max(1e-4) && right.y > 5.0 * right.z.max(1e-4), "{what}: right wall {right:?}");
-        assert!((back.x - back.y).abs() < 0.1 * back.x && back.x > 0.0, "{what}: back wall {back:?}");
+        assert!(
+            left.x > 5.0 * left.y.max(1e-4) && left.x > 5.0 * left.z.max(1e-4),
+            "{what}: left wall {left:?}"
+        );
+        assert!(
+            right.y > 5.0 * right.x.max(1e-4) && right.y > 5.0 * right.z.max(1e-4),
+            "{what}: right wall {right:?}"
+        );
+        assert!(
+            (back.x - back.y).abs() < 0.1 * back.x && back.x > 0.0,
+            "{what}: back wall {back:?}"
+        );
     }
-    for (x0, x1, y0, y1) in [(0, 4, 10, 38), (n - 4, n, 10, 38), (18, 30, 6, 12), (30, 44, 40, 48)] {
+    for (x0, x1, y0, y1) in [
+        (0, 4, 10, 38),
+        (n - 4, n, 10, 38),
+        (18, 30, 6, 12),
+        (30, 44, 40, 48),
+    ] {
         let (ma, mb) = (mean(&a, x0, x1, y0, y1), mean(&b, x0, x1, y0, y1));
         let ratio = ma.max_element() / mb.max_element();
-        assert!((ratio - 1.0).abs() < 0.1, "region ({x0}..{x1}, {y0}..{y1}): {ma:?} vs {mb:?}");
+        assert!(
+            (ratio - 1.0).abs() < 0.1,
+            "region ({x0}..{x1}, {y0}..{y1}): {ma:?} vs {mb:?}"
+        );
     }
 }
 
@@ -381,7 +493,9 @@ fn blender_seed_scene_renders_with_the_seed_framing_and_walls() {
 fn mesh_files_need_a_known_extension() {
     let dir = common::temp_dir("ext");
     std::fs::write(dir.join("x.stl"), "solid x").expect("write");
-    let e = load_mesh_file(&dir.join("x.stl")).err().expect("refused").to_string();
+    let e = load_mesh_file(&dir.join("x.stl"))
+        .expect_err("refused")
+        .to_string();
     assert!(e.contains("unsupported mesh format"), "{e}");
     assert!(load_mesh_file(Path::new("/nonexistent/x.obj")).is_err());
 }

@@ -2,8 +2,8 @@
 //! hierarchy, the first perspective camera, `KHR_lights_punctual` point and spot lights, and
 //! metallic-roughness materials mapped onto ours:
 //! - `KHR_materials_transmission` > 0 → glass of index `KHR_materials_ior` (1.5);
-//! - metallic 1 and roughness 0 → mirror tinted by the base colour;
-//! - otherwise diffuse with the base colour (factor × texture);
+//! - metallic ≥ 0.5 and roughness < 0.5 → mirror tinted by the base colour;
+//! - otherwise diffuse with the base colour (factor × texture), also for rough metals;
 //! - emissive factor × `KHR_materials_emissive_strength` > 0 → an area light of that radiance.
 //!
 //! Whatever cannot be mapped is reported once per kind as a warning. Accessors are checked
@@ -107,7 +107,7 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
         ));
     }
     // Read the meshes now, so that errors and warnings come out at load time.
-    let meshes = read_parts(&g, &mut sink, &nodes)?;
+    let mut meshes = read_parts(&g, &mut sink, &nodes)?;
     let camera = match camera {
         Some(c) => c,
         None => {
@@ -138,6 +138,9 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
         emission: None,
     });
     desc.lights = lights;
+    meshes.warnings.extend(sink.warnings);
+    meshes.warnings.sort();
+    meshes.warnings.dedup();
     Ok(Loaded {
         desc,
         warnings: meshes.warnings,
@@ -226,16 +229,19 @@ fn gltf_error(path: &Path, bytes: &[u8], e: gltf::Error) -> Error {
     match e {
         gltf::Error::Deserialize(json) if !bytes.starts_with(b"glTF") => {
             let text = String::from_utf8_lossy(bytes);
-            let d = Diagnostic::at_line(
+            // serde_json ends its message with " at line L column C"; we show those as a location.
+            let message = json.to_string();
+            let message = message
+                .rsplit_once(" at line ")
+                .map_or(message.as_str(), |(m, _)| m)
+                .to_owned();
+            Error::SceneFile(Box::new(Diagnostic::at_line_column(
                 path,
                 &text,
                 json.line(),
-                format!("invalid glTF JSON: {json}"),
-            );
-            Error::SceneFile(Box::new(Diagnostic {
-                column: Some(json.column()),
-                ..d
-            }))
+                json.column(),
+                format!("invalid glTF JSON: {message}"),
+            )))
         }
         gltf::Error::Validation(errors) => {
             let list: Vec<String> = errors
@@ -514,7 +520,13 @@ fn convert_material(g: &Opened, sink: &mut Sink, m: &gltf::Material) -> Result<I
         sink.warn("metallic-roughness textures are ignored (their factors are used)");
     }
     let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
-    let spec = if transmission > 0.0 {
+    let spec = if m.index().is_none() {
+        // No material: glTF's default is a rough white metal; a grey diffuse is what
+        // importers (Blender's among them) show.
+        MaterialSpec::Diffuse {
+            albedo: ColorSpec::Constant(Rgb::splat(0.8)),
+        }
+    } else if transmission > 0.0 {
         if transmission < 1.0 {
             sink.warn("partial transmission is rendered as fully transparent glass");
         }
@@ -522,14 +534,18 @@ fn convert_material(g: &Opened, sink: &mut Sink, m: &gltf::Material) -> Result<I
             ior: m.ior().unwrap_or(1.5),
             transmittance: base,
         }
-    } else if metallic >= 0.5 {
+    } else if metallic >= 0.5 && roughness < 0.5 {
         if metallic < 1.0 || roughness > 0.0 {
-            sink.warn("rough or partly metallic surfaces are rendered as perfect mirrors (metallic ≥ 0.5) or diffuse");
+            sink.warn(
+                "glossy metals (metallic ≥ 0.5, roughness < 0.5) are rendered as perfect mirrors",
+            );
         }
         MaterialSpec::Mirror { reflectance: base }
     } else {
         if metallic > 0.0 {
-            sink.warn("rough or partly metallic surfaces are rendered as perfect mirrors (metallic ≥ 0.5) or diffuse");
+            sink.warn(
+                "rough or partly metallic surfaces are rendered as diffuse with their base colour",
+            );
         }
         let albedo = match pbr.base_color_texture() {
             Some(info) => {

@@ -61,6 +61,33 @@ impl Diagnostic {
         }
     }
 
+    /// A problem at 1-based `line` and `column` (in characters) of `source`.
+    pub fn at_line_column(
+        path: &Path,
+        source: &str,
+        line: usize,
+        column: usize,
+        message: impl Into<String>,
+    ) -> Self {
+        let start: usize = source
+            .split_inclusive('\n')
+            .take(line.saturating_sub(1))
+            .map(str::len)
+            .sum();
+        let start = start.min(source.len());
+        let offset: usize = source[start..]
+            .chars()
+            .take(column.saturating_sub(1))
+            .map(char::len_utf8)
+            .sum();
+        let at = start + offset;
+        let end = source[at..]
+            .chars()
+            .next()
+            .map_or(at, |c| at + c.len_utf8());
+        Self::at_span(path, source, at..end, message)
+    }
+
     /// A problem on 1-based line `line` of `source` (column 1, the whole line underlined).
     pub fn at_line(path: &Path, source: &str, line: usize, message: impl Into<String>) -> Self {
         let start: usize = source

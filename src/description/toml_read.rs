@@ -73,7 +73,12 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
     };
     let camera = match root.get("camera") {
         Some(v) => camera(&cx.table(v, "[camera]")?)?,
-        None => return Err(cx.err(0..0, "the scene has no [camera] table")),
+        None => {
+            return Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
+                path,
+                "the scene has no [camera] table (position and look_at are required)",
+            ))));
+        }
     };
     let render = match root.get("render") {
         Some(v) => render(&cx.table(v, "[render]")?)?,
@@ -146,7 +151,9 @@ impl<'a> Cx<'a> {
                 v.span(),
                 format!(
                     "{what} '{name}' not found (looked for {})",
-                    resolved.display()
+                    std::path::absolute(&resolved)
+                        .unwrap_or(resolved.clone())
+                        .display()
                 ),
             ));
         }

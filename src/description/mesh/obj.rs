@@ -155,13 +155,17 @@ fn locate(path: &Path, text: &str, e: &tobj::LoadError) -> Error {
                         args.len()
                     ));
                 }
-                let counts = [(v, "vertex"), (vt, "texture coordinate"), (vn, "normal")];
+                let counts = [
+                    (v, "vertex", "vertices"),
+                    (vt, "texture coordinate", "texture coordinates"),
+                    (vn, "normal", "normals"),
+                ];
                 for a in &args {
                     for (slot, part) in a.split('/').enumerate() {
                         if part.is_empty() && slot > 0 {
                             continue;
                         }
-                        let (Some(&(count, what)), Ok(index)) =
+                        let (Some(&(count, what, plural)), Ok(index)) =
                             (counts.get(slot), part.parse::<i64>())
                         else {
                             return at(format!(
@@ -171,7 +175,7 @@ fn locate(path: &Path, text: &str, e: &tobj::LoadError) -> Error {
                         let resolved = if index < 0 { count + index + 1 } else { index };
                         if index == 0 || resolved < 1 || resolved > count {
                             return at(format!(
-                                "{what} index {index} is out of range: {count} {what}s are defined before this line"
+                                "{what} index {index} is out of range: {count} {plural} are defined before this line"
                             ));
                         }
                     }

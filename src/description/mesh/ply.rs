@@ -17,7 +17,11 @@ pub fn read(path: &Path) -> Result<MeshFile> {
     let header = parser
         .read_header(&mut reader)
         .map_err(|e| file_error(path, format!("not a valid PLY header: {e}")))?;
-    let payload_bytes = bytes.len() as u64 - reader.get_ref().position();
+    let header_end = reader.get_ref().position() as usize;
+    let payload_bytes = (bytes.len() - header_end) as u64;
+    let locate = |element: &str, index: usize, message: String| {
+        locate(path, &bytes, header_end, &header, element, index, message)
+    };
     check_sizes(path, &header, payload_bytes)?;
     let payload = parser
         .read_payload(&mut reader, &header)
@@ -33,8 +37,9 @@ pub fn read(path: &Path) -> Result<MeshFile> {
     for (i, v) in vertices.iter().enumerate() {
         let (Some(x), Some(y), Some(z)) = (number(v, &["x"]), number(v, &["y"]), number(v, &["z"]))
         else {
-            return Err(file_error(
-                path,
+            return Err(locate(
+                "vertex",
+                i,
                 format!("vertex {i} has no numeric x, y and z properties"),
             ));
         };
@@ -64,14 +69,16 @@ pub fn read(path: &Path) -> Result<MeshFile> {
             .find_map(|n| f.get(*n))
             .and_then(index_list)
         else {
-            return Err(file_error(
-                path,
+            return Err(locate(
+                "face",
+                k,
                 format!("face {k} has no vertex_indices list of integers"),
             ));
         };
         if let Some(&bad) = list.iter().find(|&&i| i as usize >= positions.len()) {
-            return Err(file_error(
-                path,
+            return Err(locate(
+                "face",
+                k,
                 format!(
                     "face {k} uses vertex {bad}, but the file has {} vertices",
                     positions.len()
@@ -98,6 +105,34 @@ pub fn read(path: &Path) -> Result<MeshFile> {
         }],
         warnings: Vec::new(),
     })
+}
+
+/// An error about element `index` of `element`: at its line in an ASCII file, else for the
+/// whole (binary) file.
+fn locate(
+    path: &Path,
+    bytes: &[u8],
+    header_end: usize,
+    header: &Header,
+    element: &str,
+    index: usize,
+    message: String,
+) -> crate::error::Error {
+    if header.encoding != Encoding::Ascii {
+        return file_error(path, message);
+    }
+    let before: usize = header
+        .elements
+        .iter()
+        .take_while(|(name, _)| name.as_str() != element)
+        .map(|(_, d)| d.count)
+        .sum();
+    let header_lines = bytes[..header_end].iter().filter(|&&b| b == b'\n').count();
+    let text = String::from_utf8_lossy(bytes);
+    let line = header_lines + before + index + 1;
+    crate::error::Error::SceneFile(Box::new(crate::description::source::Diagnostic::at_line(
+        path, &text, line, message,
+    )))
 }
 
 /// Refuse declared element counts the file cannot hold (or that would need absurd memory)
