@@ -499,3 +499,74 @@ fn mesh_files_need_a_known_extension() {
     assert!(e.contains("unsupported mesh format"), "{e}");
     assert!(load_mesh_file(Path::new("/nonexistent/x.obj")).is_err());
 }
+
+/// Load speed of a large mesh, for the record (`cargo test --release --test mesh_files --
+/// --ignored --nocapture`): a 2-million-triangle bumpy sphere as binary PLY and as OBJ.
+#[test]
+#[ignore = "timing run, prints triangles per second"]
+fn large_mesh_load_speed() {
+    let dir = common::temp_dir("big");
+    let n = 1000u32;
+    let mut positions = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let (t, p) = (
+                0.01 + (std::f32::consts::PI - 0.02) * i as f32 / (n - 1) as f32,
+                std::f32::consts::TAU * j as f32 / (n - 1) as f32,
+            );
+            let r = 1.0 + 0.05 * (8.0 * t).sin() * (8.0 * p).cos();
+            positions.push([r * t.sin() * p.cos(), r * t.cos(), r * t.sin() * p.sin()]);
+        }
+    }
+    let mut faces = Vec::new();
+    for i in 0..n - 1 {
+        for j in 0..n - 1 {
+            let a = i * n + j;
+            faces.push([a, a + n, a + 1]);
+            faces.push([a + 1, a + n, a + n + 1]);
+        }
+    }
+    let mut ply = format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        positions.len(),
+        faces.len()
+    )
+    .into_bytes();
+    positions
+        .iter()
+        .flatten()
+        .for_each(|x| ply.extend(x.to_le_bytes()));
+    for f in &faces {
+        ply.push(3);
+        f.iter().for_each(|i| ply.extend(i.to_le_bytes()));
+    }
+    std::fs::write(dir.join("big.ply"), ply).expect("ply");
+    let mut obj = String::new();
+    for p in &positions {
+        obj += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    for f in &faces {
+        obj += &format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    }
+    std::fs::write(dir.join("big.obj"), obj).expect("obj");
+    for file in ["big.ply", "big.obj"] {
+        let start = std::time::Instant::now();
+        let mesh = load_mesh_file(&dir.join(file)).expect("loads");
+        let read = start.elapsed().as_secs_f64();
+        let tris = mesh.triangle_count();
+        let toml = format!(
+            "[camera]\nposition = [0, 0, 4]\nlook_at = [0, 0, 0]\n[materials.m]\ntype = \"diffuse\"\n[[shapes]]\ntype = \"mesh\"\nfile = \"{file}\"\nmaterial = \"m\"\n"
+        );
+        let desc = photon::description::toml_read::read_str(&toml, &dir.join("s.toml"), &dir)
+            .expect("reads");
+        let start = std::time::Instant::now();
+        let scene = build(&desc).expect("builds");
+        let total = start.elapsed().as_secs_f64();
+        println!(
+            "{file}: {tris} triangles; parse {read:.2} s = {:.2} M triangles/s; parse + scene + BVH {total:.2} s = {:.2} M triangles/s",
+            tris as f64 / read / 1e6,
+            tris as f64 / total / 1e6
+        );
+        assert_eq!(scene.primitive_count(), tris);
+    }
+}

@@ -112,9 +112,11 @@ fn print_warnings(warnings: &[String]) {
     }
 }
 
-/// Load a scene by built-in name or file, printing what the loader could not map.
-pub fn scene(name_or_path: &str) -> Result<(Scene, RenderSpec)> {
+/// Load a scene by built-in name or file, printing what the loader could not map. Also
+/// returns the seconds it took (reading files, building the BVH).
+pub fn scene(name_or_path: &str) -> Result<(Scene, RenderSpec, f64)> {
+    let start = std::time::Instant::now();
     let (scene, loaded) = load_scene(name_or_path)?;
     print_warnings(&loaded.warnings);
-    Ok((scene, loaded.desc.render))
+    Ok((scene, loaded.desc.render, start.elapsed().as_secs_f64()))
 }

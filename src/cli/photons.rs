@@ -121,7 +121,7 @@ fn check_extension(path: &Path, ext: &str) -> Result<()> {
 
 fn trace(a: &TraceArgs) -> Result<()> {
     check_extension(&a.output, "phm")?;
-    let (scene, _) = super::scene(&a.scene)?;
+    let (scene, _, _) = super::scene(&a.scene)?;
     let config = PhotonConfig {
         photons: a.photons,
         global_photons: a.global_photons,

@@ -174,7 +174,7 @@ pub fn resume(
     pool: &rayon::ThreadPool,
 ) -> Result<()> {
     let (state, info) = checkpoint::load_with(path)?;
-    let (scene, _) = super::scene(&state.scene_name)?;
+    let (scene, _, _) = super::scene(&state.scene_name)?;
     if scene.content_hash() != state.scene_hash {
         bail!(
             "'{}' was written for a different version of scene '{}'; it cannot be continued",

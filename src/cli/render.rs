@@ -258,6 +258,7 @@ fn parse_filter(s: &str) -> Result<PixelFilter, String> {
 /// Time spent in each phase, for the summary line.
 #[derive(Default)]
 struct Phases {
+    load: f64,
     trace: f64,
     build: f64,
 }
@@ -276,7 +277,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let pool = super::thread_pool(a.threads)?;
         return progressive::resume(cp, budget, a.output.as_deref(), a.quiet, &pool);
     }
-    let (scene, spec) = super::scene(&a.scene)?;
+    let (scene, spec, load_seconds) = super::scene(&a.scene)?;
     let mut a = a;
     a.apply_scene_settings(&spec)?;
     let a = a;
@@ -334,7 +335,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     settings.validate()?;
     let pool = super::thread_pool(a.threads)?;
-    let mut phases = Phases::default();
+    let mut phases = Phases {
+        load: load_seconds,
+        ..Phases::default()
+    };
     let integrator = pool.install(|| integrator(&a, &scene, &mut phases))?;
     let bar = progress::bar("rendering", a.quiet);
     let start = Instant::now();
@@ -349,14 +353,16 @@ pub fn run(a: RenderArgs) -> Result<()> {
         String::new()
     };
     eprintln!(
-        "photon: {} {}×{} {} spp ({}) on {} threads: {photon_phases}render {secs:.2} s, total {:.2} s; {:.2} M samples/s, {:.2} M rays/s (camera {:.2}, bounce {:.2}, shadow {:.2}) → {}",
+        "photon: {} {}×{} {} spp ({}) on {} threads: load {:.2} s ({} primitives), {photon_phases}render {secs:.2} s, total {:.2} s; {:.2} M samples/s, {:.2} M rays/s (camera {:.2}, bounce {:.2}, shadow {:.2}) → {}",
         scene.name,
         settings.width,
         settings.height,
         settings.spp,
         integrator.name(),
         pool.current_num_threads(),
-        phases.trace + phases.build + secs,
+        phases.load,
+        scene.primitive_count(),
+        phases.load + phases.trace + phases.build + secs,
         m(out.samples),
         m(out.rays.total()),
         m(out.rays.camera),

@@ -23,9 +23,18 @@ use std::f32::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
 
+/// Mesh files already read, by path: a file named twice (or read while importing a glTF
+/// scene) is parsed once.
+pub type MeshCache = HashMap<std::path::PathBuf, Arc<mesh::MeshFile>>;
+
 /// Build the scene a description describes, reading the files it names (relative to its
 /// `base_dir`).
 pub fn build(desc: &SceneDesc) -> Result<Scene> {
+    build_with(desc, &mut MeshCache::new())
+}
+
+/// [`build`], taking mesh files from `cache` when they are there and adding those it reads.
+pub fn build_with(desc: &SceneDesc, cache: &mut MeshCache) -> Result<Scene> {
     let mut b = SceneBuilder::new(&desc.name);
     let c = &desc.camera;
     b.camera(
@@ -43,6 +52,7 @@ pub fn build(desc: &SceneDesc) -> Result<Scene> {
         materials: HashMap::new(),
         black: None,
         imported: HashMap::new(),
+        cache,
     };
     for (name, spec) in &desc.materials {
         let id = add_material(&mut b, spec, ctx.base_dir)?;
@@ -93,6 +103,7 @@ struct Context<'a> {
     black: Option<u32>,
     /// Materials read from mesh files, by file and material name.
     imported: HashMap<(std::path::PathBuf, String), u32>,
+    cache: &'a mut MeshCache,
 }
 
 impl Context<'_> {
@@ -271,11 +282,25 @@ fn add_shape(b: &mut SceneBuilder, ctx: &mut Context, s: &ShapeSpec) -> Result<(
         ShapeKind::Triangles(mesh) => add_mesh(b, ctx, s, mesh, &m),
         ShapeKind::MeshFile { file, smooth } => {
             let path = ctx.base_dir.join(file);
-            let parts = mesh::load_mesh_file(&path)?;
-            for mut part in parts.parts {
-                if !smooth {
-                    part.mesh.normals.clear();
+            let file = match ctx.cache.get(&path) {
+                Some(f) => f.clone(),
+                None => {
+                    let f = Arc::new(mesh::load_mesh_file(&path)?);
+                    ctx.cache.insert(path.clone(), f.clone());
+                    f
                 }
+            };
+            for part in &file.parts {
+                let flat;
+                let mesh = if *smooth || part.mesh.normals.is_empty() {
+                    &part.mesh
+                } else {
+                    flat = TriangleMesh {
+                        normals: Vec::new(),
+                        ..part.mesh.clone()
+                    };
+                    &flat
+                };
                 let (material, emission) = match (&s.material, &part.material) {
                     (Some(_), _) | (None, None) => (
                         ctx.material(b, s.material.as_deref(), emissive)?,
@@ -284,10 +309,10 @@ fn add_shape(b: &mut SceneBuilder, ctx: &mut Context, s: &ShapeSpec) -> Result<(
                     (None, Some(im)) => (imported(b, ctx, &path, im)?, s.emission.or(im.emission)),
                 };
                 let emission = match &emission {
-                    Some(e) => Some(radiance(e, mesh_area(&part.mesh, &m))?),
+                    Some(e) => Some(radiance(e, mesh_area(mesh, &m))?),
                     None => None,
                 };
-                b.triangle_mesh(&part.mesh, m, material, emission)?;
+                b.triangle_mesh(mesh, m, material, emission)?;
             }
             Ok(())
         }

@@ -287,6 +287,8 @@ pub struct Loaded {
     pub desc: SceneDesc,
     /// One message per kind of thing that was not imported.
     pub warnings: Vec<String>,
+    /// Mesh files the loader already read (a glTF scene's own meshes), for [`build::build_with`].
+    pub meshes: build::MeshCache,
 }
 
 /// Load a scene: a built-in name, or a `.toml`, `.gltf` or `.glb` file.
@@ -295,6 +297,7 @@ pub fn load(name_or_path: &str) -> Result<Loaded> {
         return Ok(Loaded {
             desc,
             warnings: Vec::new(),
+            meshes: build::MeshCache::new(),
         });
     }
     let path = Path::new(name_or_path);
@@ -306,6 +309,7 @@ pub fn load(name_or_path: &str) -> Result<Loaded> {
         Some("toml") => Ok(Loaded {
             desc: toml_read::read_file(path)?,
             warnings: Vec::new(),
+            meshes: build::MeshCache::new(),
         }),
         Some("gltf" | "glb") => gltf::import_scene(path),
         _ if path.exists() => Err(Error::SceneFile(Box::new(source::Diagnostic::whole_file(
@@ -322,8 +326,8 @@ pub fn load(name_or_path: &str) -> Result<Loaded> {
 /// A scene read from a file is named by the file's absolute path, which is what checkpoints
 /// and photon-map files record to find it again.
 pub fn load_scene(name_or_path: &str) -> Result<(Scene, Loaded)> {
-    let loaded = load(name_or_path)?;
-    let mut scene = build::build(&loaded.desc)?;
+    let mut loaded = load(name_or_path)?;
+    let mut scene = build::build_with(&loaded.desc, &mut loaded.meshes)?;
     if builtin::desc(name_or_path).is_none() {
         let path = Path::new(name_or_path);
         scene.name = std::path::absolute(path)

@@ -140,9 +140,16 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
     meshes.warnings.extend(sink.warnings);
     meshes.warnings.sort();
     meshes.warnings.dedup();
+    let warnings = std::mem::take(&mut meshes.warnings);
+    let mut cache = super::build::MeshCache::new();
+    cache.insert(
+        desc.base_dir.join(path.file_name().unwrap_or_default()),
+        std::sync::Arc::new(meshes),
+    );
     Ok(Loaded {
         desc,
-        warnings: meshes.warnings,
+        warnings,
+        meshes: cache,
     })
 }
 

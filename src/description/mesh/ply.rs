@@ -7,14 +7,85 @@ use crate::error::Result;
 use crate::math::{Vec2, Vec3};
 use crate::scene::TriangleMesh;
 use ply_rs_bw::parser::{Parser, Reader};
-use ply_rs_bw::ply::{DefaultElement, Encoding, Header, Property, PropertyType, ScalarType};
+use ply_rs_bw::ply::{
+    Encoding, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
+};
 use std::path::Path;
+
+/// One vertex as read: position, normal, texture coordinates, and which of them were present.
+#[derive(Clone, Copy, Default)]
+struct Vertex {
+    values: [f32; 8],
+    /// Bit k set when `values[k]` was given.
+    given: u8,
+}
+
+const POSITION: u8 = 0b111;
+const NORMAL: u8 = 0b111_000;
+const UV: u8 = 0b11_000_000;
+
+impl PropertyAccess for Vertex {
+    fn new() -> Self {
+        Self::default()
+    }
+
+    fn set_property(&mut self, name: &str, p: Property) -> PropertyAccessResult {
+        let slot = match name {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            "nx" => 3,
+            "ny" => 4,
+            "nz" => 5,
+            "u" | "s" | "texture_u" | "texture_s" => 6,
+            "v" | "t" | "texture_v" | "texture_t" => 7,
+            _ => return PropertyAccessResult::Ignored,
+        };
+        match scalar(&p) {
+            Some(x) => {
+                self.values[slot] = x;
+                self.given |= 1 << slot;
+                PropertyAccessResult::Set
+            }
+            None => PropertyAccessResult::Ignored,
+        }
+    }
+}
+
+/// One face as read: its vertex indices (`None` if the list was missing or negative).
+#[derive(Clone, Default)]
+struct Face {
+    indices: Option<Vec<u32>>,
+}
+
+impl PropertyAccess for Face {
+    fn new() -> Self {
+        Self::default()
+    }
+
+    fn set_property(&mut self, name: &str, p: Property) -> PropertyAccessResult {
+        if matches!(name, "vertex_indices" | "vertex_index") {
+            self.indices = index_list(&p);
+            PropertyAccessResult::Set
+        } else {
+            PropertyAccessResult::Ignored
+        }
+    }
+}
+
+/// Elements other than vertices and faces: read past, kept nowhere.
+struct Skip;
+
+impl PropertyAccess for Skip {
+    fn new() -> Self {
+        Skip
+    }
+}
 
 pub fn read(path: &Path) -> Result<MeshFile> {
     let bytes = read_bytes(path)?;
-    let parser = Parser::<DefaultElement>::new();
     let mut reader = Reader::new(std::io::Cursor::new(&bytes[..]));
-    let header = parser
+    let header = Parser::<Skip>::new()
         .read_header(&mut reader)
         .map_err(|e| file_error(path, format!("not a valid PLY header: {e}")))?;
     let header_end = reader.get_ref().position() as usize;
@@ -23,56 +94,66 @@ pub fn read(path: &Path) -> Result<MeshFile> {
         locate(path, &bytes, header_end, &header, element, index, message)
     };
     check_sizes(path, &header, payload_bytes)?;
-    let payload = parser
-        .read_payload(&mut reader, &header)
-        .map_err(|e| file_error(path, format!("cannot read the PLY data: {e}")))?;
-    let empty = Vec::new();
-    let vertices = payload.get("vertex").unwrap_or(&empty);
-    let number = |e: &DefaultElement, names: &[&str]| -> Option<f32> {
-        names.iter().find_map(|n| e.get(*n)).and_then(scalar)
+    let bad_data = |e: ply_rs_bw::parser::ParseError| {
+        file_error(path, format!("cannot read the PLY data: {e}"))
     };
-    let mut positions = Vec::with_capacity(vertices.len());
-    let mut normals = Vec::new();
-    let mut uvs = Vec::new();
-    for (i, v) in vertices.iter().enumerate() {
-        let (Some(x), Some(y), Some(z)) = (number(v, &["x"]), number(v, &["y"]), number(v, &["z"]))
-        else {
-            return Err(locate(
-                "vertex",
-                i,
-                format!("vertex {i} has no numeric x, y and z properties"),
-            ));
-        };
-        positions.push(Vec3::new(x, y, z));
-        if let (Some(a), Some(b), Some(c)) =
-            (number(v, &["nx"]), number(v, &["ny"]), number(v, &["nz"]))
-        {
-            normals.push(Vec3::new(a, b, c));
-        }
-        if let (Some(u), Some(t)) = (
-            number(v, &["u", "s", "texture_u", "texture_s"]),
-            number(v, &["v", "t", "texture_v", "texture_t"]),
-        ) {
-            uvs.push(Vec2::new(u, t));
+    // Elements are read in file order, each with a type that keeps only what we use.
+    let (mut vertices, mut faces) = (Vec::new(), Vec::new());
+    for (name, def) in &header.elements {
+        match name.as_str() {
+            "vertex" => {
+                vertices = Parser::<Vertex>::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(bad_data)?;
+            }
+            "face" => {
+                faces = Parser::<Face>::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(bad_data)?;
+            }
+            _ => {
+                Parser::<Skip>::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(bad_data)?;
+            }
         }
     }
-    if normals.len() != positions.len() {
-        normals.clear();
+    let all = |mask: u8| vertices.iter().all(|v| v.given & mask == mask);
+    if let Some(i) = vertices.iter().position(|v| v.given & POSITION != POSITION) {
+        return Err(locate(
+            "vertex",
+            i,
+            format!("vertex {i} has no numeric x, y and z properties"),
+        ));
     }
-    if uvs.len() != positions.len() {
-        uvs.clear();
-    }
-    let mut triangles = Vec::new();
-    for (k, f) in payload.get("face").unwrap_or(&empty).iter().enumerate() {
-        let Some(list) = ["vertex_indices", "vertex_index"]
+    let positions: Vec<Vec3> = vertices
+        .iter()
+        .map(|v| Vec3::new(v.values[0], v.values[1], v.values[2]))
+        .collect();
+    let normals = if all(NORMAL) {
+        vertices
             .iter()
-            .find_map(|n| f.get(*n))
-            .and_then(index_list)
-        else {
+            .map(|v| Vec3::new(v.values[3], v.values[4], v.values[5]))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let uvs = if all(UV) {
+        vertices
+            .iter()
+            .map(|v| Vec2::new(v.values[6], v.values[7]))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    drop(vertices);
+    let mut triangles = Vec::with_capacity(faces.len());
+    for (k, f) in faces.iter().enumerate() {
+        let Some(list) = &f.indices else {
             return Err(locate(
                 "face",
                 k,
-                format!("face {k} has no vertex_indices list of integers"),
+                format!("face {k} has no vertex_indices list of non-negative integers"),
             ));
         };
         if let Some(&bad) = list.iter().find(|&&i| i as usize >= positions.len()) {
@@ -85,7 +166,7 @@ pub fn read(path: &Path) -> Result<MeshFile> {
                 ),
             ));
         }
-        fan(&list, &mut triangles);
+        fan(list, &mut triangles);
     }
     if triangles.is_empty() {
         return Err(file_error(path, "the PLY file has no faces"));
