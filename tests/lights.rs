@@ -143,3 +143,76 @@ fn built_in_lights_have_the_specified_power() {
         cornell.total_power()
     );
 }
+
+/// A directional light of irradiance E at angle θ from a diffuse plane of albedo ρ: the plane
+/// receives E cos θ (photons: Σ flux / area) and reflects radiance ρ E cos θ / π (direct light).
+#[test]
+fn directional_light_gives_the_closed_form_irradiance() {
+    use photon::description::{build::build, toml_read::read_str};
+    use photon::film::PixelFilter;
+    use photon::integrator::{DirectConfig, Integrator};
+    use photon::photon::{PhotonConfig, trace_photons};
+    use photon::render::{RenderSettings, render};
+    let theta = 35f32.to_radians();
+    let (e, rho) = (Rgb::new(2.0, 3.0, 4.0), 0.5);
+    let text = format!(
+        "[camera]\nposition = [0, 0, 3]\nlook_at = [0, 0, 0]\nfov = 30\n\
+         [materials.m]\ntype = \"diffuse\"\nalbedo = {rho}\n\
+         [[shapes]]\ntype = \"quad\"\nvertices = [[-2, -2, 0], [2, -2, 0], [2, 2, 0], [-2, 2, 0]]\nmaterial = \"m\"\n\
+         [[lights]]\ntype = \"directional\"\ndirection = [{}, 0, {}]\nirradiance = [2, 3, 4]\n",
+        theta.sin(),
+        -theta.cos()
+    );
+    let scene = build(
+        &read_str(
+            &text,
+            std::path::Path::new("d.toml"),
+            std::path::Path::new(""),
+        )
+        .expect("reads"),
+    )
+    .expect("builds");
+    // Power: E over the disk of the scene's bounding sphere.
+    let light = &scene.lights()[0];
+    let Light::Directional(d) = light else {
+        panic!("{light:?}")
+    };
+    assert!(close(
+        light.power(),
+        e * PI * d.scene_radius * d.scene_radius,
+        1e-5
+    ));
+
+    let integrator = Integrator::Direct(DirectConfig::default());
+    let s = RenderSettings {
+        width: 8,
+        height: 8,
+        spp: 1,
+        seed: 0,
+        filter: PixelFilter::Box,
+    };
+    let img = render(&scene, &integrator, &s, &|_, _| {})
+        .expect("renders")
+        .image;
+    let expected = e * rho * theta.cos() / PI;
+    for p in &img.pixels {
+        assert!(close(*p, expected, 1e-4), "{p} vs {expected}");
+    }
+
+    let config = PhotonConfig {
+        photons: 400_000,
+        ..PhotonConfig::default()
+    };
+    let maps = trace_photons(&scene, &config, &|_, _| {}).expect("traces");
+    let g = &maps.global;
+    let direct: Rgb = (0..g.len())
+        .filter(|&i| g.photons()[i].is_direct())
+        .map(|i| g.power(i))
+        .sum();
+    let irradiance = direct / 16.0;
+    assert!(
+        close(irradiance, e * theta.cos(), 0.02),
+        "photon irradiance {irradiance} vs {}",
+        e * theta.cos()
+    );
+}

@@ -90,6 +90,12 @@ pub fn build_with(desc: &SceneDesc, cache: &mut MeshCache) -> Result<Scene> {
                 };
                 b.spot_light(make(i));
             }
+            LightSpec::Directional {
+                direction,
+                irradiance,
+            } => {
+                b.directional_light(*direction, *irradiance);
+            }
             LightSpec::Area(shape) => add_shape(&mut b, &mut ctx, shape)?,
         }
     }

@@ -230,6 +230,8 @@ pub enum LightSpec {
         /// Width of the soft edge inside the cone, degrees.
         falloff_deg: f32,
     },
+    /// Light from one direction (the sun): irradiance in W/m² on a surface facing it.
+    Directional { direction: Vec3, irradiance: Rgb },
     /// An emissive shape (disk, quad, sphere, mesh …).
     Area(ShapeSpec),
 }

@@ -80,6 +80,14 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 w.kv("angle", &float(*angle_deg));
                 w.kv("falloff", &float(*falloff_deg));
             }
+            LightSpec::Directional {
+                direction,
+                irradiance,
+            } => {
+                w.kv("type", "\"directional\"");
+                w.kv("direction", &vec3(*direction));
+                w.kv("irradiance", &vec3(*irradiance));
+            }
             LightSpec::Area(s) => w.shape(s, true),
         }
     }

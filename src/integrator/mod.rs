@@ -158,6 +158,6 @@ pub(crate) fn light_pdf_for_hit(scene: &Scene, from: Vec3, hit: &Hit) -> f32 {
     let i = hit.light as usize;
     match &scene.lights()[i] {
         Light::Area(l) => scene.light_choice_pmf(i) * l.pdf_li(from, hit.p, hit.ng),
-        Light::Point(_) | Light::Spot(_) => 0.0,
+        Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
     }
 }

@@ -2,10 +2,12 @@
 //! watts per RGB channel) and can be sampled from a shading point for next-event estimation.
 
 mod area;
+mod directional;
 mod point;
 mod spot;
 
 pub use area::AreaLight;
+pub use directional::DirectionalLight;
 
 pub use point::PointLight;
 pub use spot::SpotLight;
@@ -46,6 +48,7 @@ pub struct PhotonEmission {
 pub enum Light {
     Point(PointLight),
     Spot(SpotLight),
+    Directional(DirectionalLight),
     Area(AreaLight),
 }
 
@@ -55,6 +58,7 @@ impl Light {
         match self {
             Light::Point(l) => l.power(),
             Light::Spot(l) => l.power(),
+            Light::Directional(l) => l.power(),
             Light::Area(l) => l.power(),
         }
     }
@@ -64,6 +68,7 @@ impl Light {
         match self {
             Light::Point(l) => l.sample_li(p),
             Light::Spot(l) => l.sample_li(p),
+            Light::Directional(l) => l.sample_li(p),
             Light::Area(l) => l.sample_li(p, u_pick, u),
         }
     }
@@ -73,6 +78,7 @@ impl Light {
         match self {
             Light::Point(l) => Some(l.emit(u_dir)),
             Light::Spot(l) => l.emit(u_dir),
+            Light::Directional(l) => l.emit(u_pos),
             Light::Area(l) => l.emit(u_pick, u_pos, u_dir),
         }
     }

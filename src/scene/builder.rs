@@ -3,7 +3,7 @@ use crate::accel::Bvh;
 use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
 use crate::geometry::{Disk, Shape, Sphere, Triangle};
-use crate::light::{AreaLight, Light, PointLight, SpotLight};
+use crate::light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
 use crate::material::Material;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
@@ -282,6 +282,14 @@ impl SceneBuilder {
         self
     }
 
+    /// Light from one direction; its power is set from the scene's bounding sphere at build.
+    pub fn directional_light(&mut self, direction: Vec3, irradiance: Rgb) -> &mut Self {
+        self.lights.push(Light::Directional(DirectionalLight::new(
+            direction, irradiance,
+        )));
+        self
+    }
+
     pub fn spot_light(&mut self, light: SpotLight) -> &mut Self {
         self.lights.push(Light::Spot(light));
         self
@@ -358,6 +366,17 @@ impl SceneBuilder {
         }
         let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
         let (bvh, order) = Bvh::build(&bounds);
+        let scene_bounds = bvh.bounds();
+        for l in &mut lights {
+            if let Light::Directional(d) = l {
+                // A hair larger than the bounding sphere, so shadow rays end outside it.
+                d.scene_center = 0.5 * (scene_bounds.min + scene_bounds.max);
+                d.scene_radius = 0.5 * scene_bounds.extent().length() * 1.001;
+                if !(d.scene_radius > 0.0 && d.scene_radius.is_finite()) {
+                    return invalid("a directional light needs a scene with extent".into());
+                }
+            }
+        }
         let reorder = |v: &[u32]| order.iter().map(|&i| v[i as usize]).collect::<Vec<u32>>();
         let prim_material = reorder(&prim_material);
         let prim_light = reorder(&prim_light);

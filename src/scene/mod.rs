@@ -183,7 +183,7 @@ impl Scene {
         }
         match &self.lights[hit.light as usize] {
             Light::Area(l) => l.emitted(hit.ng, w),
-            Light::Point(_) | Light::Spot(_) => Rgb::ZERO,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => Rgb::ZERO,
         }
     }
 

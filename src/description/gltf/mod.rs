@@ -1,5 +1,6 @@
 //! glTF 2.0 (.gltf with its buffers, or .glb): meshes with normals and UVs under the node
-//! hierarchy, the first perspective camera, `KHR_lights_punctual` point and spot lights, and
+//! hierarchy, the first perspective camera, `KHR_lights_punctual` point, spot and directional
+//! lights, and
 //! metallic-roughness materials mapped onto ours:
 //! - `KHR_materials_transmission` > 0 → glass of index `KHR_materials_ior` (1.5);
 //! - metallic ≥ 0.5 and roughness < 0.5 → mirror tinted by the base colour;
@@ -58,7 +59,6 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
     let nodes = scene_nodes(&g)?;
     let mut camera = None;
     let mut lights = Vec::new();
-    let mut directional = 0;
     for (node, world) in &nodes {
         if let Some(cam) = node.camera()
             && camera.is_none()
@@ -96,14 +96,15 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
                     angle_deg: outer_cone_angle.to_degrees(),
                     falloff_deg: (outer_cone_angle - inner_cone_angle).max(0.0).to_degrees(),
                 }),
-                gltf::khr_lights_punctual::Kind::Directional => directional += 1,
+                // Illuminance in lux (lm/m²) → irradiance in W/m².
+                gltf::khr_lights_punctual::Kind::Directional => {
+                    lights.push(LightSpec::Directional {
+                        direction: forward,
+                        irradiance: color,
+                    })
+                }
             }
         }
-    }
-    if directional > 0 {
-        sink.warn(&format!(
-            "directional lights are not supported; {directional} skipped"
-        ));
     }
     // Read the meshes now, so that errors and warnings come out at load time.
     let mut meshes = read_parts(&g, &mut sink, &nodes)?;

@@ -29,7 +29,7 @@ pub(super) fn shape(t: &Table, names: &[&str], is_light: bool) -> Result<ShapeSp
     if !SHAPE_TYPES.contains(&kind_name) {
         let mut all = SHAPE_TYPES.to_vec();
         if is_light {
-            all.extend(["point", "spot"]);
+            all.extend(["point", "spot", "directional"]);
         }
         return Err(bad_type(t, kind_name, &all));
     }
@@ -344,6 +344,18 @@ pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
                 intensity: intensity(t)?,
                 angle_deg: angle,
                 falloff_deg: falloff,
+            })
+        }
+        "directional" => {
+            t.allow(&["type", "direction", "irradiance"])?;
+            Ok(LightSpec::Directional {
+                direction: nonzero(t, "direction", -Vec3::Z)?,
+                irradiance: t.opt_color("irradiance")?.ok_or_else(|| {
+                    t.cx.err(
+                        t.span.start..t.span.start + 1,
+                        format!("{} needs 'irradiance' (W/m²)", t.what),
+                    )
+                })?,
             })
         }
         _ => Ok(LightSpec::Area(shape(t, names, true)?)),
