@@ -372,8 +372,10 @@ impl SceneBuilder {
                 // A hair larger than the bounding sphere, so shadow rays end outside it.
                 d.scene_center = 0.5 * (scene_bounds.min + scene_bounds.max);
                 d.scene_radius = 0.5 * scene_bounds.extent().length() * 1.001;
-                if !(d.scene_radius > 0.0 && d.scene_radius.is_finite()) {
-                    return invalid("a directional light needs a scene with extent".into());
+                if !d.scene_radius.is_finite() || !d.scene_center.is_finite() {
+                    // Nothing to light: an empty scene. The light then has no power.
+                    d.scene_center = Vec3::ZERO;
+                    d.scene_radius = 0.0;
                 }
             }
         }
