@@ -268,18 +268,30 @@ fn quad_buffer() -> (Vec<u8>, serde_json::Value, serde_json::Value) {
 /// The test scene: four quads (glass, mirror, emitter, blue diffuse) under a parent node,
 /// a camera, a point and a spot light.
 pub fn test_gltf() -> Vec<u8> {
-    let (bin, views, accessors) = quad_buffer();
+    let (mut bin, mut views, accessors) = quad_buffer();
+    // A 2×1 PNG, red then green, for the textured quad.
+    let mut png = Vec::new();
+    let mut img = image::RgbImage::new(2, 1);
+    img.put_pixel(0, 0, image::Rgb([255, 0, 0]));
+    img.put_pixel(1, 0, image::Rgb([0, 255, 0]));
+    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .expect("png");
+    views
+        .as_array_mut()
+        .expect("views")
+        .push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": png.len()}));
+    bin.extend(&png);
     let prim = |m: u32| json!({"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": m}]});
     let h = std::f32::consts::FRAC_1_SQRT_2;
     let doc = json!({
         "asset": {"version": "2.0", "generator": "photon tests"},
-        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength"],
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength", "KHR_texture_transform"],
         "extensions": {"KHR_lights_punctual": {"lights": [
             {"type": "point", "color": [1.0, 0.5, 0.25], "intensity": 683.0},
             {"type": "spot", "intensity": 1366.0, "spot": {"innerConeAngle": 0.3, "outerConeAngle": 0.5}}
         ]}},
         "scene": 0,
-        "scenes": [{"nodes": [0, 5, 6, 7]}],
+        "scenes": [{"nodes": [0, 5, 6, 7, 8]}],
         "nodes": [
             {"name": "group", "translation": [0.0, 0.0, -1.0], "children": [1, 2, 3, 4]},
             {"name": "glass", "mesh": 0, "translation": [-1.5, 0.0, 0.0]},
@@ -288,16 +300,20 @@ pub fn test_gltf() -> Vec<u8> {
             {"name": "blue", "mesh": 3, "translation": [1.5, 0.0, 0.0], "rotation": [0.0, 0.0, h, h]},
             {"name": "camera", "camera": 0, "translation": [0.0, 0.0, 4.0]},
             {"name": "bulb", "translation": [0.0, 3.0, 0.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
-            {"name": "spot", "translation": [0.0, 2.0, 1.0], "rotation": [-h, 0.0, 0.0, h], "extensions": {"KHR_lights_punctual": {"light": 1}}}
+            {"name": "spot", "translation": [0.0, 2.0, 1.0], "rotation": [-h, 0.0, 0.0, h], "extensions": {"KHR_lights_punctual": {"light": 1}}},
+            {"name": "textured", "mesh": 4, "translation": [3.0, 0.0, -1.0]}
         ],
+        "images": [{"bufferView": 4, "mimeType": "image/png"}],
+        "textures": [{"source": 0}],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 2.0, "znear": 0.1}}],
         "materials": [
             {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0}, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.45}}},
             {"name": "mirror", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1.0], "metallicFactor": 1.0, "roughnessFactor": 0.0}},
             {"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0], "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}, "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}},
-            {"name": "blue", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0], "metallicFactor": 0.0}, "alphaMode": "BLEND"}
+            {"name": "blue", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0], "metallicFactor": 0.0}, "alphaMode": "BLEND"},
+            {"name": "image", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.0]}}}}}
         ],
-        "meshes": [prim(0), prim(1), prim(2), prim(3)],
+        "meshes": [prim(0), prim(1), prim(2), prim(3), prim(4)],
         "accessors": accessors,
         "bufferViews": views,
         "buffers": [{"byteLength": bin.len()}]
@@ -387,6 +403,14 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
     assert!(matches!(blue, Material::Lambertian(l) if l.albedo == Rgb::new(0.2, 0.4, 0.6)));
     // The rotated blue quad keeps facing +z; its normal is turned by the node's rotation.
     assert!((probe(1.5, 0.0).expect("blue").ns - Vec3::Z).length() < 1e-5);
+    // The textured quad: the 2×1 image across it, shifted half a width by the texture
+    // transform (left half green, right half red), read at texel centres.
+    let texel = |x: f32| match s.material_at(&probe(x, 0.0).expect("textured quad")) {
+        Material::Lambertian(l) => l.albedo,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(texel(2.75), Rgb::new(0.0, 1.0, 0.0));
+    assert_eq!(texel(3.25), Rgb::new(1.0, 0.0, 0.0));
     // The emissive quad (0.5 × 0.5, one-sided) is an area light of radiance 5.
     let area = s
         .lights()

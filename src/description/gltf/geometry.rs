@@ -36,6 +36,13 @@ pub(super) fn read_parts(
             for n in &mut part.normals {
                 *n = (normal_matrix * *n).normalize_or_zero();
             }
+            let base_color = primitive
+                .material()
+                .pbr_metallic_roughness()
+                .base_color_texture();
+            if let Some(t) = base_color.and_then(|info| info.texture_transform()) {
+                transform_uvs(&mut part.uvs, t.offset(), t.rotation(), t.scale());
+            }
             let key = primitive.material().index();
             let material = match materials.get(&key) {
                 Some(m) => m.clone(),
@@ -182,4 +189,15 @@ fn read_primitive(g: &Opened, p: &gltf::Primitive, what: &str) -> Result<Triangl
         mesh.uvs.clear();
     }
     Ok(mesh)
+}
+
+/// `KHR_texture_transform` on our (v-up) coordinates: in glTF's v-down space,
+/// uv' = T · R · S · uv with R = [[cos, −sin], [sin, cos]] (the extension's matrix).
+fn transform_uvs(uvs: &mut [Vec2], offset: [f32; 2], rotation: f32, scale: [f32; 2]) {
+    let (sin, cos) = rotation.sin_cos();
+    for uv in uvs {
+        let (x, y) = (uv.x * scale[0], (1.0 - uv.y) * scale[1]);
+        let (u, v) = (cos * x - sin * y + offset[0], sin * x + cos * y + offset[1]);
+        *uv = Vec2::new(u, 1.0 - v);
+    }
 }

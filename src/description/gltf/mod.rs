@@ -228,6 +228,7 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
 ];
 /// Extensions whose effect our materials cannot show but which do not change what is lit.
 const IGNORED_EXTENSIONS: &[&str] = &["KHR_materials_volume", "KHR_materials_specular"];
