@@ -349,6 +349,18 @@ power = 1
         "{grey:?}"
     );
     assert_eq!(at(2.25, 0.25), Rgb::ZERO);
+
+    // JPEG textures decode the same way (lossy: within a few percent of a flat colour).
+    image::RgbImage::from_pixel(8, 8, image::Rgb([200, 100, 50]))
+        .save(dir.join("flat.jpg"))
+        .expect("jpeg");
+    let text = text
+        .replace("t.png", "flat.jpg")
+        .replace("tint = [1, 1, 0.5]", "tint = 1");
+    let s = build(&read_str(&text, &dir.join("t.toml"), &dir).expect("reads")).expect("builds");
+    let c = albedo_at(&s, Vec3::new(2.5, 0.5, 1.0), down);
+    let want = Rgb::new(0.5776, 0.1270, 0.0319);
+    assert!((c - want).abs().max_element() < 0.02, "{c:?} vs {want:?}");
 }
 
 #[test]
