@@ -131,6 +131,11 @@ fn cases() -> Vec<Case> {
             format!("{}0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", ply_header("ascii", "3")).into_bytes(),
         ),
         Case {
+            name: "missing_scene_file",
+            files: Vec::new(),
+            scene: "nowhere.toml",
+        },
+        Case {
             name: "gltf_bad_accessor",
             files: vec![("bad.glb", bad_accessor_glb())],
             scene: "bad.glb",
@@ -203,7 +208,7 @@ fn broken_inputs_give_located_messages_matching_the_snapshots() {
             ));
         }
         // Every message names the input file.
-        let input = case.files.last().expect("files").0;
+        let input = case.files.last().map_or(case.scene, |f| f.0);
         assert!(
             got.contains(input) || got.contains("scene.toml"),
             "{}: {got}",
