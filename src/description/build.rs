@@ -286,70 +286,91 @@ fn add_shape(b: &mut SceneBuilder, ctx: &mut Context, s: &ShapeSpec) -> Result<(
             add_mesh(b, ctx, s, &mesh, &m)
         }
         ShapeKind::Triangles(mesh) => add_mesh(b, ctx, s, mesh, &m),
-        ShapeKind::MeshFile { file, smooth } => {
-            let path = ctx.base_dir.join(file);
-            let file = match ctx.cache.get(&path) {
-                Some(f) => f.clone(),
-                None => {
-                    let f = Arc::new(mesh::load_mesh_file(&path)?);
-                    ctx.cache.insert(path.clone(), f.clone());
-                    f
-                }
-            };
-            for part in &file.parts {
-                let flat;
-                let mesh = if *smooth || part.mesh.normals.is_empty() {
-                    &part.mesh
-                } else {
-                    flat = TriangleMesh {
-                        normals: Vec::new(),
-                        ..part.mesh.clone()
-                    };
-                    &flat
-                };
-                let (material, emission) = match (&s.material, &part.material) {
-                    (Some(_), _) | (None, None) => (
-                        ctx.material(b, s.material.as_deref(), emissive)?,
-                        s.emission,
-                    ),
-                    (None, Some(im)) => (imported(b, ctx, &path, im)?, s.emission.or(im.emission)),
-                };
-                let emission = match &emission {
-                    Some(e) => Some(radiance(e, mesh_area(mesh, &m))?),
-                    None => None,
-                };
-                b.triangle_mesh(mesh, m, material, emission)?;
-            }
-            Ok(())
-        }
+        ShapeKind::MeshFile { file, smooth } => add_mesh_file(b, ctx, s, file, *smooth, &m),
         ShapeKind::Pot {
             subdivisions,
             seed,
             soil_material,
             leaf_material,
         } => {
-            let model = pot(&PotParams {
+            let params = PotParams {
                 subdivisions: *subdivisions,
                 seed: *seed,
-            });
-            let clay = ctx.material(b, s.material.as_deref(), false)?;
-            let soil =
-                ctx.material(b, soil_material.as_deref().or(s.material.as_deref()), false)?;
-            let leaf =
-                ctx.material(b, leaf_material.as_deref().or(s.material.as_deref()), false)?;
-            b.triangle_mesh(&smooth_mesh(&model.body), m, clay, None)?;
-            let soil_disk = Shape::Disk(Disk {
-                center: model.soil_center.as_vec3(),
-                normal: Vec3::Z,
-                radius: model.soil_radius as f32,
-            });
-            b.object_transformed(&[soil_disk], m, soil, None)?;
-            for leaf_mesh in &model.leaves {
-                b.triangle_mesh(&smooth_mesh(leaf_mesh), m, leaf, None)?;
-            }
-            Ok(())
+            };
+            let soil = soil_material.as_deref().or(s.material.as_deref());
+            let leaf = leaf_material.as_deref().or(s.material.as_deref());
+            add_pot(b, ctx, &params, [s.material.as_deref(), soil, leaf], &m)
         }
     }
+}
+
+/// Every part of a mesh file, with the shape's material (and emission) or the file's own.
+fn add_mesh_file(
+    b: &mut SceneBuilder,
+    ctx: &mut Context,
+    s: &ShapeSpec,
+    file: &Path,
+    smooth: bool,
+    m: &Affine3A,
+) -> Result<()> {
+    let path = ctx.base_dir.join(file);
+    let file = match ctx.cache.get(&path) {
+        Some(f) => f.clone(),
+        None => {
+            let f = Arc::new(mesh::load_mesh_file(&path)?);
+            ctx.cache.insert(path.clone(), f.clone());
+            f
+        }
+    };
+    for part in &file.parts {
+        let flat;
+        let mesh = if smooth || part.mesh.normals.is_empty() {
+            &part.mesh
+        } else {
+            flat = TriangleMesh {
+                normals: Vec::new(),
+                ..part.mesh.clone()
+            };
+            &flat
+        };
+        let (material, emission) = match (&s.material, &part.material) {
+            (Some(_), _) | (None, None) => (
+                ctx.material(b, s.material.as_deref(), s.emission.is_some())?,
+                s.emission,
+            ),
+            (None, Some(im)) => (imported(b, ctx, &path, im)?, s.emission.or(im.emission)),
+        };
+        let emission = match &emission {
+            Some(e) => Some(radiance(e, mesh_area(mesh, m))?),
+            None => None,
+        };
+        b.triangle_mesh(mesh, *m, material, emission)?;
+    }
+    Ok(())
+}
+
+/// The pot's body, soil disc and leaves with materials `[body, soil, leaves]`.
+fn add_pot(
+    b: &mut SceneBuilder,
+    ctx: &mut Context,
+    params: &PotParams,
+    materials: [Option<&str>; 3],
+    m: &Affine3A,
+) -> Result<()> {
+    let model = pot(params);
+    let [clay, soil, leaf] = materials.map(|name| ctx.material(b, name, false));
+    let (clay, soil, leaf) = (clay?, soil?, leaf?);
+    b.triangle_mesh(&smooth_mesh(&model.body), *m, clay, None)?;
+    let soil_disk = Shape::Disk(Disk {
+        center: model.soil_center.as_vec3(),
+        normal: Vec3::Z,
+        radius: model.soil_radius as f32,
+    });
+    b.object_transformed(&[soil_disk], *m, soil, None)?;
+    for leaf_mesh in &model.leaves {
+        b.triangle_mesh(&smooth_mesh(leaf_mesh), *m, leaf, None)?;
+    }
+    Ok(())
 }
 
 fn smooth_mesh(mesh: &PolyMesh) -> TriangleMesh {

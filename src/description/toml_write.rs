@@ -215,7 +215,65 @@ impl Writer {
     }
 
     fn shape(&mut self, s: &ShapeSpec, is_light: bool) {
-        match &s.kind {
+        self.shape_kind(&s.kind);
+        if let Some(m) = &s.material {
+            self.kv("material", &string(m));
+        }
+        if !s.transform.is_empty() {
+            let steps: Vec<String> = s.transform.iter().map(step).collect();
+            self.kv("transform", &format!("[{}]", steps.join(", ")));
+        }
+        if let Some(e) = &s.emission {
+            let (k, c, two_sided) = match *e {
+                EmissionSpec::Radiance {
+                    radiance,
+                    two_sided,
+                } => ("radiance", radiance, two_sided),
+                EmissionSpec::Power { power, two_sided } => ("power", power, two_sided),
+            };
+            if is_light {
+                self.kv(k, &vec3(c));
+                self.kv("two_sided", &two_sided.to_string());
+            } else {
+                self.kv(
+                    "emission",
+                    &format!("{{ {k} = {}, two_sided = {two_sided} }}", vec3(c)),
+                );
+            }
+        }
+    }
+
+    fn triangles(&mut self, m: &crate::scene::TriangleMesh) {
+        self.kv("type", "\"triangles\"");
+        let list = |items: Vec<String>| format!("[\n  {},\n]", items.join(",\n  "));
+        self.kv(
+            "positions",
+            &list(m.positions.iter().map(|&p| vec3(p)).collect()),
+        );
+        let tris = m
+            .triangles
+            .iter()
+            .map(|t| format!("[{}, {}, {}]", t[0], t[1], t[2]))
+            .collect();
+        self.kv("indices", &list(tris));
+        if !m.normals.is_empty() {
+            self.kv(
+                "normals",
+                &list(m.normals.iter().map(|&n| vec3(n)).collect()),
+            );
+        }
+        if !m.uvs.is_empty() {
+            let uvs = m
+                .uvs
+                .iter()
+                .map(|u| format!("[{}, {}]", float(u.x), float(u.y)))
+                .collect();
+            self.kv("uvs", &list(uvs));
+        }
+    }
+
+    fn shape_kind(&mut self, kind: &ShapeKind) {
+        match kind {
             ShapeKind::Sphere { center, radius } => {
                 self.kv("type", "\"sphere\"");
                 self.kv("center", &vec3(*center));
@@ -247,34 +305,7 @@ impl Writer {
                 self.kv("file", &p);
                 self.kv("smooth", &smooth.to_string());
             }
-            ShapeKind::Triangles(m) => {
-                self.kv("type", "\"triangles\"");
-                let list = |items: Vec<String>| format!("[\n  {},\n]", items.join(",\n  "));
-                self.kv(
-                    "positions",
-                    &list(m.positions.iter().map(|&p| vec3(p)).collect()),
-                );
-                let tris = m
-                    .triangles
-                    .iter()
-                    .map(|t| format!("[{}, {}, {}]", t[0], t[1], t[2]))
-                    .collect();
-                self.kv("indices", &list(tris));
-                if !m.normals.is_empty() {
-                    self.kv(
-                        "normals",
-                        &list(m.normals.iter().map(|&n| vec3(n)).collect()),
-                    );
-                }
-                if !m.uvs.is_empty() {
-                    let uvs = m
-                        .uvs
-                        .iter()
-                        .map(|u| format!("[{}, {}]", float(u.x), float(u.y)))
-                        .collect();
-                    self.kv("uvs", &list(uvs));
-                }
-            }
+            ShapeKind::Triangles(m) => self.triangles(m),
             ShapeKind::Pot {
                 subdivisions,
                 seed,
@@ -290,31 +321,6 @@ impl Writer {
                 if let Some(m) = leaf_material {
                     self.kv("leaf_material", &string(m));
                 }
-            }
-        }
-        if let Some(m) = &s.material {
-            self.kv("material", &string(m));
-        }
-        if !s.transform.is_empty() {
-            let steps: Vec<String> = s.transform.iter().map(step).collect();
-            self.kv("transform", &format!("[{}]", steps.join(", ")));
-        }
-        if let Some(e) = &s.emission {
-            let (k, c, two_sided) = match *e {
-                EmissionSpec::Radiance {
-                    radiance,
-                    two_sided,
-                } => ("radiance", radiance, two_sided),
-                EmissionSpec::Power { power, two_sided } => ("power", power, two_sided),
-            };
-            if is_light {
-                self.kv(k, &vec3(c));
-                self.kv("two_sided", &two_sided.to_string());
-            } else {
-                self.kv(
-                    "emission",
-                    &format!("{{ {k} = {}, two_sided = {two_sided} }}", vec3(c)),
-                );
             }
         }
     }

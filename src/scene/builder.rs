@@ -366,19 +366,7 @@ impl SceneBuilder {
         }
         let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
         let (bvh, order) = Bvh::build(&bounds);
-        let scene_bounds = bvh.bounds();
-        for l in &mut lights {
-            if let Light::Directional(d) = l {
-                // A hair larger than the bounding sphere, so shadow rays end outside it.
-                d.scene_center = 0.5 * (scene_bounds.min + scene_bounds.max);
-                d.scene_radius = 0.5 * scene_bounds.extent().length() * 1.001;
-                if !d.scene_radius.is_finite() || !d.scene_center.is_finite() {
-                    // Nothing to light: an empty scene. The light then has no power.
-                    d.scene_center = Vec3::ZERO;
-                    d.scene_radius = 0.0;
-                }
-            }
-        }
+        fit_directional_lights(&mut lights, &bvh.bounds());
         let reorder = |v: &[u32]| order.iter().map(|&i| v[i as usize]).collect::<Vec<u32>>();
         let prim_material = reorder(&prim_material);
         let prim_light = reorder(&prim_light);
@@ -410,5 +398,21 @@ impl SceneBuilder {
             default_resolution: self.resolution,
             bvh,
         })
+    }
+}
+
+/// Give directional lights the scene's bounding sphere (a hair larger, so shadow rays end
+/// outside it), which sets their power and where their photons start. In an empty scene they
+/// have no power.
+fn fit_directional_lights(lights: &mut [Light], bounds: &crate::geometry::Bounds) {
+    for l in lights {
+        if let Light::Directional(d) = l {
+            d.scene_center = 0.5 * (bounds.min + bounds.max);
+            d.scene_radius = 0.5 * bounds.extent().length() * 1.001;
+            if !d.scene_radius.is_finite() || !d.scene_center.is_finite() {
+                d.scene_center = Vec3::ZERO;
+                d.scene_radius = 0.0;
+            }
+        }
     }
 }
