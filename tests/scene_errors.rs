@@ -141,6 +141,15 @@ fn cases() -> Vec<Case> {
             scene: "bad.glb",
         },
         Case {
+            // gltf-json 1.4 itself panicked on this one (found by tests/scene_fuzz.rs).
+            name: "gltf_missing_accessor",
+            files: vec![(
+                "gone.gltf",
+                br#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 3}}]}]}"#.to_vec(),
+            )],
+            scene: "gone.gltf",
+        },
+        Case {
             name: "gltf_bad_json",
             files: vec![(
                 "bad.gltf",

@@ -25,7 +25,7 @@ fn damage(input: &[u8], rng: &mut Rng) -> Vec<u8> {
             break;
         }
         let at = rng.next_u32() as usize % out.len();
-        let byte = if rng.next_u32() % 2 == 0 {
+        let byte = if rng.next_u32().is_multiple_of(2) {
             INTERESTING[rng.next_u32() as usize % INTERESTING.len()]
         } else {
             rng.next_u32() as u8

@@ -169,7 +169,14 @@ impl Opened {
 
 fn open(path: &Path) -> Result<(Opened, Sink)> {
     let bytes = read_bytes(path)?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| gltf_error(path, &bytes, e))?;
+    let gltf = gltf::Gltf::from_slice_without_validation(&bytes)
+        .map_err(|e| gltf_error(path, &bytes, e))?;
+    let json = gltf.document.into_json();
+    check_attribute_references(path, &json)?;
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(json).map_err(|e| gltf_error(path, &bytes, e))?,
+        blob: gltf.blob,
+    };
     let dir = path.parent().unwrap_or(Path::new(""));
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {
@@ -232,6 +239,31 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
 ];
 /// Extensions whose effect our materials cannot show but which do not change what is lit.
 const IGNORED_EXTENSIONS: &[&str] = &["KHR_materials_volume", "KHR_materials_specular"];
+
+/// Accessor indices named by mesh attributes and indices must exist. `gltf-json` 1.4's
+/// validation indexes the POSITION accessor before checking that it exists, and panics on a
+/// file that names one past the end, so this runs first.
+fn check_attribute_references(path: &Path, json: &gltf::json::Root) -> Result<()> {
+    let count = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (k, p) in mesh.primitives.iter().enumerate() {
+            let named = p
+                .attributes
+                .values()
+                .chain(p.indices.as_ref())
+                .map(|i| i.value());
+            if let Some(bad) = named.into_iter().find(|&i| i >= count) {
+                return Err(file_error(
+                    path,
+                    format!(
+                        "mesh {m} primitive {k} names accessor {bad}, but the file has {count} accessors"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
 
 fn gltf_error(path: &Path, bytes: &[u8], e: gltf::Error) -> Error {
     match e {
