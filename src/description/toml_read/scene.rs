@@ -5,6 +5,7 @@ use crate::description::source::nearest;
 use crate::description::{CameraSpec, ColorSpec, INTEGRATORS, MaterialSpec, RenderSpec};
 use crate::error::{Error, Result};
 use crate::math::{Rgb, Vec2, Vec3};
+use crate::render::MAX_RESOLUTION;
 use toml::de::DeValue;
 
 pub(super) fn camera(t: &Table) -> Result<CameraSpec> {
@@ -18,8 +19,8 @@ pub(super) fn camera(t: &Table) -> Result<CameraSpec> {
                     .cx
                     .err(v.span(), format!("{what} must be [width, height]")));
             }
-            let w = integer(t.cx, &items[0], &what, 1 << 16)?;
-            let h = integer(t.cx, &items[1], &what, 1 << 16)?;
+            let w = integer(t.cx, &items[0], &what, u64::from(MAX_RESOLUTION))?;
+            let h = integer(t.cx, &items[1], &what, u64::from(MAX_RESOLUTION))?;
             if w == 0 || h == 0 {
                 return Err(t.cx.err(v.span(), format!("{what} must be at least 1×1")));
             }
