@@ -115,6 +115,20 @@ fn cases() -> Vec<Case> {
             "tri.obj",
             b"v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n".to_vec(),
         ),
+        Case {
+            name: "mesh_without_material",
+            files: vec![
+                (
+                    "scene.toml",
+                    format!("{CAMERA}\n[[shapes]]\ntype = \"mesh\"\nfile = \"m.ply\"\n").into_bytes(),
+                ),
+                (
+                    "m.ply",
+                    format!("{}0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", ply_header("ascii", "3")).into_bytes(),
+                ),
+            ],
+            scene: "scene.toml",
+        },
         with_mesh("ply_truncated", "m.ply", {
             let mut b = ply_header("binary_little_endian", "3").into_bytes();
             b.extend([0u8; 20]);

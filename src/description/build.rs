@@ -334,6 +334,15 @@ fn add_mesh_file(
             &flat
         };
         let (material, emission) = match (&s.material, &part.material) {
+            (None, None) if s.emission.is_none() => {
+                return Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
+                    &path,
+                    format!(
+                        "part '{}' has no material of its own; give the shape a `material`",
+                        part.name
+                    ),
+                ))));
+            }
             (Some(_), _) | (None, None) => (
                 ctx.material(b, s.material.as_deref(), s.emission.is_some())?,
                 s.emission,
