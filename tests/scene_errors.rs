@@ -164,6 +164,16 @@ fn cases() -> Vec<Case> {
             scene: "gone.gltf",
         },
         Case {
+            // gltf 1.4 overflowed on a GLB length below its header size (found by scene_fuzz).
+            name: "glb_bad_length",
+            files: vec![("short.glb", {
+                let mut b = bad_accessor_glb();
+                b[8..12].copy_from_slice(&4u32.to_le_bytes());
+                b
+            })],
+            scene: "short.glb",
+        },
+        Case {
             name: "gltf_bad_json",
             files: vec![(
                 "bad.gltf",

@@ -169,6 +169,7 @@ impl Opened {
 
 fn open(path: &Path) -> Result<(Opened, Sink)> {
     let bytes = read_bytes(path)?;
+    check_glb_header(path, &bytes)?;
     let gltf = gltf::Gltf::from_slice_without_validation(&bytes)
         .map_err(|e| gltf_error(path, &bytes, e))?;
     let json = gltf.document.into_json();
@@ -239,6 +240,28 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
 ];
 /// Extensions whose effect our materials cannot show but which do not change what is lit.
 const IGNORED_EXTENSIONS: &[&str] = &["KHR_materials_volume", "KHR_materials_specular"];
+
+/// A GLB's declared length must cover its 12-byte header and fit the file: `gltf` 1.4
+/// subtracts the header size from it unchecked.
+fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<()> {
+    if !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let declared = bytes
+        .get(8..12)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+    match declared {
+        Some(n) if (12..=bytes.len()).contains(&n) => Ok(()),
+        Some(n) => Err(file_error(
+            path,
+            format!(
+                "the GLB header declares {n} bytes, but the file has {} (and a header is 12)",
+                bytes.len()
+            ),
+        )),
+        None => Err(file_error(path, "truncated GLB header")),
+    }
+}
 
 /// Accessor indices named by mesh attributes and indices must exist. `gltf-json` 1.4's
 /// validation indexes the POSITION accessor before checking that it exists, and panics on a
