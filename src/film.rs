@@ -74,6 +74,29 @@ pub enum PixelFilter {
     Gaussian { sigma: f32 },
 }
 
+impl std::str::FromStr for PixelFilter {
+    type Err = String;
+
+    /// `box`, or `gaussian:SIGMA` with SIGMA in pixels.
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s == "box" {
+            return Ok(PixelFilter::Box);
+        }
+        let sigma = s
+            .strip_prefix("gaussian:")
+            .ok_or_else(|| format!("'{s}' is not a filter; expected 'box' or 'gaussian:SIGMA'"))?;
+        let sigma: f32 = sigma.parse().map_err(|_| {
+            format!("'{sigma}' is not a number; expected 'gaussian:SIGMA' such as 'gaussian:0.5'")
+        })?;
+        if !(sigma > 0.0 && sigma.is_finite()) {
+            return Err(format!(
+                "the Gaussian filter's sigma {sigma} must be positive"
+            ));
+        }
+        Ok(PixelFilter::Gaussian { sigma })
+    }
+}
+
 impl PixelFilter {
     /// Film position of a sample for pixel (x, y) from a point `u` of the unit square (ideally
     /// stratified across the pixel's samples, see [`stratified_2d`]).

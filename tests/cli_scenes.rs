@@ -98,6 +98,50 @@ fn scene_render_settings_apply_unless_overridden() {
 }
 
 #[test]
+fn photon_settings_in_the_scene_equal_the_same_flags() {
+    let dir = common::temp_dir("cli-photon-settings");
+    let scene = |render: &str| {
+        format!(
+            "[camera]\nposition = [0, 0, 3]\nlook_at = [0, 0, 0]\nresolution = [16, 16]\n\
+             [render]\nspp = 1\nphotons = 2000\ncaustic_photons = 2000\n{render}\
+             [materials.m]\ntype = \"diffuse\"\n\
+             [[shapes]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"m\"\n\
+             [[shapes]]\ntype = \"quad\"\nvertices = [[-3, -1, -3], [-3, -1, 3], [3, -1, 3], [3, -1, -3]]\nmaterial = \"m\"\n\
+             [[lights]]\ntype = \"point\"\nposition = [0, 2, 2]\npower = 50\n"
+        )
+    };
+    std::fs::write(dir.join("plain.toml"), scene("")).expect("write");
+    std::fs::write(
+        dir.join("tuned.toml"),
+        scene("kernel = \"box\"\ngather = \"none\"\nk = 8\nfilter = \"gaussian:0.5\"\n"),
+    )
+    .expect("write");
+    let run = |args: &[&str], out: &str| {
+        ok(&photon(&[args, &["-o", out, "-q"]].concat(), &dir));
+        std::fs::read(dir.join(out)).expect("image")
+    };
+    let tuned = run(&["render", "tuned.toml"], "tuned.pfm");
+    let flags = run(
+        &[
+            "render",
+            "plain.toml",
+            "--kernel",
+            "box",
+            "--gather",
+            "none",
+            "--k",
+            "8",
+            "--filter",
+            "gaussian:0.5",
+        ],
+        "flags.pfm",
+    );
+    let plain = run(&["render", "plain.toml"], "plain.pfm");
+    assert!(tuned == flags, "the file's settings act as the flags do");
+    assert!(tuned != plain, "the settings change the image");
+}
+
+#[test]
 fn gltf_files_render_and_report_what_they_cannot_map() {
     let dir = common::temp_dir("cli-gltf");
     // A triangle lit by a directional light (photometric: 683 lux = 1 W/m²) and a point light,

@@ -103,9 +103,10 @@ pub struct RenderArgs {
     /// Samples per area light at each diffuse hit (direct and photon) [default: 4].
     #[arg(long)]
     light_samples: Option<u32>,
-    /// Pixel filter: `box`, or `gaussian:SIGMA` (SIGMA in pixels; the original used 0.5).
-    #[arg(long, default_value = "box", value_parser = parse_filter)]
-    filter: PixelFilter,
+    /// Pixel filter: `box`, or `gaussian:SIGMA` (SIGMA in pixels; the original used 0.5)
+    /// [default: box].
+    #[arg(long, value_parser = parse_filter)]
+    filter: Option<PixelFilter>,
     /// Exposure in stops, applied to PNG output only.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
@@ -127,11 +128,13 @@ pub struct RenderArgs {
     /// gathers at a fixed radius.
     #[arg(long)]
     k: Option<usize>,
-    #[arg(long, value_enum, default_value = "epanechnikov")]
-    kernel: KernelName,
-    /// How indirect light is found: final gathering, or the global map read directly.
-    #[arg(long, value_enum, default_value = "final")]
-    gather: GatherMode,
+    /// Density-estimation kernel [default: epanechnikov].
+    #[arg(long, value_enum)]
+    kernel: Option<KernelName>,
+    /// How indirect light is found: final gathering, or the global map read directly
+    /// [default: final].
+    #[arg(long, value_enum)]
+    gather: Option<GatherMode>,
     /// Final-gather rays per camera sample [default: 4, so 32 per pixel at 8 spp].
     #[arg(long)]
     gather_rays: Option<u32>,
@@ -156,12 +159,12 @@ pub struct RenderArgs {
     /// Progressive: stop after this many seconds (the image of the passes done by then).
     #[arg(long)]
     time: Option<f64>,
-    /// Progressive: photons traced per pass.
-    #[arg(long, default_value_t = 100_000)]
-    photons_per_pass: u64,
-    /// Progressive: radius reduction α in (0, 1).
-    #[arg(long, default_value_t = 2.0 / 3.0)]
-    alpha: f64,
+    /// Progressive: photons traced per pass [default: 100000].
+    #[arg(long)]
+    photons_per_pass: Option<u64>,
+    /// Progressive: radius reduction α in (0, 1) [default: 2/3].
+    #[arg(long)]
+    alpha: Option<f64>,
     /// Progressive: write the image after passes 1, 2, 4, 8, … (and at least every minute) as
     /// NAME.passNNNNN.EXT.
     #[arg(long)]
@@ -193,6 +196,10 @@ impl RenderArgs {
         self.light_samples.unwrap_or(4)
     }
 
+    fn gather(&self) -> GatherMode {
+        self.gather.unwrap_or(GatherMode::Final)
+    }
+
     /// Fill every setting not given on the command line from the scene file's [render] table.
     fn apply_scene_settings(&mut self, r: &RenderSpec) -> Result<()> {
         if self.integrator.is_none()
@@ -202,6 +209,11 @@ impl RenderArgs {
                 Some(IntegratorName::from_str(name, true).map_err(|_| {
                     anyhow::anyhow!("the scene names an unknown integrator '{name}'")
                 })?);
+        }
+        if self.filter.is_none()
+            && let Some(f) = &r.filter
+        {
+            self.filter = Some(f.parse().map_err(|e: String| anyhow::anyhow!(e))?);
         }
         self.spp = self.spp.or(r.spp);
         self.seed = self.seed.or(r.seed);
@@ -214,16 +226,35 @@ impl RenderArgs {
         ) {
             self.passes = self.passes.or(r.passes);
             self.time = self.time.or(r.time);
+            self.alpha = self.alpha.or(r.alpha);
+            self.photons_per_pass = self.photons_per_pass.or(r.photons_per_pass);
         }
         // Photon-integrator settings apply only when that integrator runs, so that a scene
         // written for photon mapping can still be rendered with --integrator path.
         if self.integrator() == IntegratorName::Photon {
+            if self.kernel.is_none()
+                && let Some(k) = &r.kernel
+            {
+                self.kernel = Some(value_enum(k, "kernel")?);
+            }
+            if self.gather.is_none()
+                && let Some(g) = &r.gather
+            {
+                self.gather = Some(value_enum(g, "gather")?);
+            }
+            self.k = self.k.or(r.k.map(|k| k as usize));
             self.photons = self.photons.or(r.photons);
             self.caustic_photons = self.caustic_photons.or(r.caustic_photons);
             self.gather_rays = self.gather_rays.or(r.gather_rays);
         }
         Ok(())
     }
+}
+
+/// A command-line enum value named in a scene file (already checked against the same list).
+fn value_enum<T: ValueEnum>(name: &str, what: &str) -> Result<T> {
+    T::from_str(name, true)
+        .map_err(|_| anyhow::anyhow!("the scene names an unknown {what} '{name}'"))
 }
 
 fn parse_range(s: &str) -> Result<(u64, u64), String> {
@@ -243,16 +274,7 @@ fn parse_range(s: &str) -> Result<(u64, u64), String> {
 }
 
 fn parse_filter(s: &str) -> Result<PixelFilter, String> {
-    if s == "box" {
-        return Ok(PixelFilter::Box);
-    }
-    let sigma = s
-        .strip_prefix("gaussian:")
-        .ok_or_else(|| format!("'{s}' is not a filter; expected 'box' or 'gaussian:SIGMA'"))?;
-    let sigma: f32 = sigma.parse().map_err(|_| {
-        format!("'{sigma}' is not a number; expected 'gaussian:SIGMA' such as 'gaussian:0.5'")
-    })?;
-    Ok(PixelFilter::Gaussian { sigma })
+    s.parse()
 }
 
 /// Time spent in each phase, for the summary line.
@@ -331,7 +353,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             IntegratorName::Sppm | IntegratorName::Ppm => 1,
         }),
         seed: a.seed(),
-        filter: a.filter,
+        filter: a.filter.unwrap_or(PixelFilter::Box),
     };
     settings.validate()?;
     let pool = super::thread_pool(a.threads)?;
@@ -387,8 +409,8 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -
         width: a.width.unwrap_or(w),
         height: a.height.unwrap_or(h),
         seed: a.seed(),
-        alpha: a.alpha,
-        photons_per_pass: a.photons_per_pass,
+        alpha: a.alpha.unwrap_or(2.0 / 3.0),
+        photons_per_pass: a.photons_per_pass.unwrap_or(100_000),
         initial_radius: a.radius,
         max_depth: a.max_depth.unwrap_or(16),
         light_samples: a.light_samples(),
@@ -467,14 +489,14 @@ fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Inte
                 s.global.max_radius = r;
                 s.cache_radius = r;
             }
-            if a.gather == GatherMode::None {
+            if a.gather() == GatherMode::None {
                 s.global.k = PhotonSettings::DIRECT_VISUALISATION_K;
             }
             if let Some(k) = a.k {
                 s.caustic.k = k;
                 s.global.k = k;
             }
-            let kernel = match a.kernel {
+            let kernel = match a.kernel.unwrap_or(KernelName::Epanechnikov) {
                 KernelName::Box => Kernel::Box,
                 KernelName::Cone => Kernel::Cone,
                 KernelName::Gaussian => Kernel::Gaussian,
@@ -482,11 +504,11 @@ fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Inte
             };
             s.caustic.kernel = kernel;
             s.global.kernel = kernel;
-            s.gather_rays = match a.gather {
+            s.gather_rays = match a.gather() {
                 GatherMode::None => 0,
                 GatherMode::Final => a.gather_rays.unwrap_or(s.gather_rays),
             };
-            if a.gather == GatherMode::Final && s.gather_rays == 0 {
+            if a.gather() == GatherMode::Final && s.gather_rays == 0 {
                 bail!("--gather-rays must be at least 1 (or use --gather none)");
             }
             s.indirect_scale = a.indirect_scale;

@@ -60,10 +60,25 @@ pub struct RenderSpec {
     pub gather_rays: Option<u32>,
     pub passes: Option<u64>,
     pub time: Option<f64>,
+    /// `box` or `gaussian:SIGMA`.
+    pub filter: Option<String>,
+    /// Photon density-estimation kernel (one of [`KERNELS`]).
+    pub kernel: Option<String>,
+    /// `final` (final gathering) or `none` (global map read directly).
+    pub gather: Option<String>,
+    /// Photons per estimate (0: fixed radius).
+    pub k: Option<u64>,
+    /// Progressive radius reduction α in (0, 1).
+    pub alpha: Option<f64>,
+    pub photons_per_pass: Option<u64>,
 }
 
 /// The integrators a scene file may name (the CLI's `--integrator` values).
 pub const INTEGRATORS: &[&str] = &["photon", "direct", "path", "sppm", "ppm"];
+/// The density-estimation kernels (the CLI's `--kernel` values).
+pub const KERNELS: &[&str] = &["box", "cone", "gaussian", "epanechnikov"];
+/// The ways indirect light is found (the CLI's `--gather` values).
+pub const GATHER_MODES: &[&str] = &["final", "none"];
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialSpec {

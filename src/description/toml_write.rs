@@ -150,8 +150,15 @@ impl Writer {
     fn render(&mut self, desc: &SceneDesc) {
         let r = &desc.render;
         let mut lines = Vec::new();
-        if let Some(i) = &r.integrator {
-            lines.push(("integrator", string(i)));
+        for (k, v) in [
+            ("integrator", &r.integrator),
+            ("filter", &r.filter),
+            ("kernel", &r.kernel),
+            ("gather", &r.gather),
+        ] {
+            if let Some(v) = v {
+                lines.push((k, string(v)));
+            }
         }
         let ints = [
             ("spp", r.spp.map(u64::from)),
@@ -162,6 +169,8 @@ impl Writer {
             ("caustic_photons", r.caustic_photons),
             ("gather_rays", r.gather_rays.map(u64::from)),
             ("passes", r.passes),
+            ("k", r.k),
+            ("photons_per_pass", r.photons_per_pass),
         ];
         for (k, v) in ints {
             if let Some(v) = v {
@@ -173,6 +182,9 @@ impl Writer {
         }
         if let Some(x) = r.time {
             lines.push(("time", float(x as f32)));
+        }
+        if let Some(x) = r.alpha {
+            lines.push(("alpha", float(x as f32)));
         }
         if !lines.is_empty() {
             self.section("[render]");

@@ -2,8 +2,11 @@
 
 use super::values::{Table, Value, array, color, float, floats, integer, str_of};
 use crate::description::source::nearest;
-use crate::description::{CameraSpec, ColorSpec, INTEGRATORS, MaterialSpec, RenderSpec};
+use crate::description::{
+    CameraSpec, ColorSpec, GATHER_MODES, INTEGRATORS, KERNELS, MaterialSpec, RenderSpec,
+};
 use crate::error::{Error, Result};
+use crate::film::PixelFilter;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::render::MAX_RESOLUTION;
 use toml::de::DeValue;
@@ -56,26 +59,32 @@ pub(super) fn render(t: &Table) -> Result<RenderSpec> {
         "gather_rays",
         "passes",
         "time",
+        "filter",
+        "kernel",
+        "gather",
+        "k",
+        "alpha",
+        "photons_per_pass",
     ])?;
-    let integrator = match t.get("integrator") {
+    let filter = match t.get("filter") {
         Some(v) => {
-            let name = str_of(t.cx, v, &t.label("integrator"))?;
-            if !INTEGRATORS.contains(&name) {
-                return Err(t.cx.err(
-                    v.span(),
-                    format!(
-                        "unknown integrator '{name}' (expected one of: {})",
-                        INTEGRATORS.join(", ")
-                    ),
-                ));
-            }
-            Some(name.to_owned())
+            let text = str_of(t.cx, v, &t.label("filter"))?;
+            text.parse::<PixelFilter>()
+                .map_err(|e| t.cx.err(v.span(), e))?;
+            Some(text.to_owned())
         }
         None => None,
     };
+    let alpha = t.opt_f32("alpha")?.map(f64::from);
+    if let Some(a) = alpha
+        && !(a > 0.0 && a < 1.0)
+    {
+        let span = t.get("alpha").map_or(0..0, |v| v.span());
+        return Err(t.cx.err(span, "'alpha' must be between 0 and 1"));
+    }
     const U32: u64 = u32::MAX as u64;
     Ok(RenderSpec {
-        integrator,
+        integrator: one_of(t, "integrator", INTEGRATORS)?,
         spp: t.opt_int("spp", U32)?.map(|x| x as u32),
         seed: t.opt_int("seed", i64::MAX as u64)?,
         max_depth: t.opt_int("max_depth", 1 << 16)?.map(|x| x as u32),
@@ -86,7 +95,35 @@ pub(super) fn render(t: &Table) -> Result<RenderSpec> {
         gather_rays: t.opt_int("gather_rays", 1 << 16)?.map(|x| x as u32),
         passes: t.opt_int("passes", 1 << 40)?,
         time: t.opt_f32("time")?.map(f64::from),
+        filter,
+        kernel: one_of(t, "kernel", KERNELS)?,
+        gather: one_of(t, "gather", GATHER_MODES)?,
+        k: t.opt_int("k", 1 << 16)?,
+        alpha,
+        photons_per_pass: t.opt_int("photons_per_pass", 1 << 40)?,
     })
+}
+
+/// An optional string that must be one of `allowed`.
+fn one_of(t: &Table, key: &str, allowed: &[&str]) -> Result<Option<String>> {
+    let Some(v) = t.get(key) else {
+        return Ok(None);
+    };
+    let name = str_of(t.cx, v, &t.label(key))?;
+    if !allowed.contains(&name) {
+        let hint = match nearest(name, allowed) {
+            Some(n) => format!("; did you mean '{n}'?"),
+            None => String::new(),
+        };
+        return Err(t.cx.err(
+            v.span(),
+            format!(
+                "unknown {key} '{name}'{hint} (expected one of: {})",
+                allowed.join(", ")
+            ),
+        ));
+    }
+    Ok(Some(name.to_owned()))
 }
 
 pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
