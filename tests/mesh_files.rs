@@ -453,6 +453,14 @@ fn mean(img: &Image, x0: u32, x1: u32, y0: u32, y1: u32) -> Rgb {
 fn blender_seed_scene_renders_with_the_seed_framing_and_walls() {
     let path = common::shared_dir().join("seed/seed_scene.glb");
     let loaded = import_scene(&path).expect("imports the Blender export");
+    // Blender writes KHR_materials_volume and _specular; neither is silently dropped.
+    for ext in ["KHR_materials_volume", "KHR_materials_specular"] {
+        assert!(
+            loaded.warnings.iter().any(|w| w.contains(ext)),
+            "{:?}",
+            loaded.warnings
+        );
+    }
     let seed = photon::description::builtin::desc("seed").expect("built-in");
     // glTF is y-up: (x, y, z) in the file is (x, −z, y) in the seed's z-up frame.
     let c = &loaded.desc.camera;

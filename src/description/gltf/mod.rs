@@ -213,9 +213,14 @@ fn open(path: &Path) -> Result<(Opened, Sink)> {
         }
     }
     for ext in gltf.document.extensions_used() {
-        if !SUPPORTED_EXTENSIONS.contains(&ext) && !IGNORED_EXTENSIONS.contains(&ext) {
-            warnings.insert(format!("{}: extension {ext} is ignored", path.display()));
+        if SUPPORTED_EXTENSIONS.contains(&ext) {
+            continue;
         }
+        let what = PARTLY_MAPPED
+            .iter()
+            .find(|(name, _)| *name == ext)
+            .map_or("is ignored", |(_, what)| what);
+        warnings.insert(format!("{}: extension {ext} {what}", path.display()));
     }
     Ok((
         Opened {
@@ -238,8 +243,17 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_texture_transform",
 ];
-/// Extensions whose effect our materials cannot show but which do not change what is lit.
-const IGNORED_EXTENSIONS: &[&str] = &["KHR_materials_volume", "KHR_materials_specular"];
+/// Extensions Blender writes routinely, with what of them we cannot show.
+const PARTLY_MAPPED: &[(&str, &str)] = &[
+    (
+        "KHR_materials_volume",
+        "is ignored: glass is clear (no absorption inside); its thickness is not needed, refraction is traced",
+    ),
+    (
+        "KHR_materials_specular",
+        "is ignored: glass reflects by its IOR (Fresnel), diffuse surfaces have no specular layer",
+    ),
+];
 
 /// A GLB's declared length must cover its 12-byte header and fit the file: `gltf` 1.4
 /// subtracts the header size from it unchecked.
