@@ -94,6 +94,14 @@ fn cases() -> Vec<Case> {
             format!("{MATERIAL}\n[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\npower = 10\n"),
         ),
         toml_case(
+            "camera_up_along_view",
+            "[camera]\nposition = [0, 3, 0]\nlook_at = [0, 0, 0]\n".to_owned(),
+        ),
+        toml_case(
+            "spot_without_direction",
+            format!("{CAMERA}\n[[lights]]\ntype = \"spot\"\nposition = [0, 2, 0]\nlook_at = [0, 2, 0]\npower = 10\n"),
+        ),
+        toml_case(
             "unknown_integrator",
             format!("{CAMERA}\n[render]\nintegrator = \"bidir\"\n"),
         ),

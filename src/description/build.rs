@@ -80,6 +80,12 @@ pub fn build_with(desc: &SceneDesc, cache: &mut MeshCache) -> Result<Scene> {
                 angle_deg,
                 falloff_deg,
             } => {
+                let reach = (*look_at - *position).length_squared();
+                if reach.is_nan() || reach <= 0.0 {
+                    return Err(Error::InvalidScene(
+                        "a spot light points nowhere: its look_at equals its position".into(),
+                    ));
+                }
                 let make = |i: Rgb| {
                     SpotLight::new(*position, *look_at - *position, i, *angle_deg, *falloff_deg)
                 };

@@ -36,10 +36,28 @@ pub(super) fn camera(t: &Table) -> Result<CameraSpec> {
         let span = t.get("fov").map_or(t.span.clone(), |v| v.span());
         return Err(t.cx.err(span, "'fov' must be between 0 and 180 degrees"));
     }
+    let (position, look_at) = (t.req_vec3("position")?, t.req_vec3("look_at")?);
+    let up = t.opt_vec3("up")?.unwrap_or(Vec3::Y);
+    let span = |key: &str| {
+        t.get(key)
+            .map_or(t.span.start..t.span.start + 1, |v| v.span())
+    };
+    let view = look_at - position;
+    if view.length_squared() == 0.0 {
+        return Err(t
+            .cx
+            .err(span("look_at"), "'look_at' must differ from 'position'"));
+    }
+    if view.cross(up).length_squared() <= 1e-12 * view.length_squared() * up.length_squared() {
+        return Err(t.cx.err(
+            span("up"),
+            "'up' must not be parallel to the view direction (the default is [0, 1, 0]; a z-up scene needs up = [0, 0, 1])",
+        ));
+    }
     Ok(CameraSpec {
-        position: t.req_vec3("position")?,
-        look_at: t.req_vec3("look_at")?,
-        up: t.opt_vec3("up")?.unwrap_or(Vec3::Y),
+        position,
+        look_at,
+        up,
         fov_y_deg: fov,
         width,
         height,

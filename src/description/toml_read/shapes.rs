@@ -338,9 +338,17 @@ pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
                     "'falloff' must be between 0 and 'angle' degrees",
                 ));
             }
+            let (position, look_at) = (t.req_vec3("position")?, t.req_vec3("look_at")?);
+            if (look_at - position).length_squared() == 0.0 {
+                let span = t.get("look_at").map_or(0..0, |v| v.span());
+                return Err(t.cx.err(
+                    span,
+                    "'look_at' must differ from 'position' (it sets the spot's direction)",
+                ));
+            }
             Ok(LightSpec::Spot {
-                position: t.req_vec3("position")?,
-                look_at: t.req_vec3("look_at")?,
+                position,
+                look_at,
                 intensity: intensity(t)?,
                 angle_deg: angle,
                 falloff_deg: falloff,
