@@ -4,16 +4,8 @@
 
 mod common;
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn photon(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_photon"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run photon")
-}
+use common::photon;
+use std::process::Output;
 
 fn ok(o: &Output) -> String {
     let err = String::from_utf8_lossy(&o.stderr).into_owned();

@@ -4,7 +4,33 @@
     reason = "each test binary uses a different subset of these helpers"
 )]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Run the `photon` binary with `args` in `dir`.
+pub fn photon(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_photon"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run photon")
+}
+
+/// The run failed as bad input must: exit code 2, a message mentioning `needle`, no panic.
+pub fn assert_usage_error(o: &Output, needle: &str) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
+    assert!(
+        err.contains(needle),
+        "stderr should mention '{needle}': {err}"
+    );
+    assert!(!err.contains("panicked"), "must not panic: {err}");
+}
+
+/// A run's standard error as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
 
 /// `../shared/` beside the repository (CI provides it).
 pub fn shared_dir() -> PathBuf {
