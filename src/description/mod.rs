@@ -345,7 +345,7 @@ pub fn load(name_or_path: &str) -> Result<Loaded> {
 pub fn load_scene(name_or_path: &str) -> Result<(Scene, Loaded)> {
     let mut loaded = load(name_or_path)?;
     let mut scene = build::build_with(&loaded.desc, &mut loaded.meshes)?;
-    if builtin::desc(name_or_path).is_none() {
+    if !builtin::BUILTINS.iter().any(|b| b.name == name_or_path) {
         let path = Path::new(name_or_path);
         scene.name = std::path::absolute(path)
             .unwrap_or_else(|_| path.to_owned())

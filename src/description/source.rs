@@ -129,6 +129,11 @@ pub fn nearest<'a>(word: &str, candidates: &[&'a str]) -> Option<&'a str> {
         .map(|(_, c)| c)
 }
 
+/// "; did you mean 'X'?" for the likely intended candidate, or nothing.
+pub fn did_you_mean(word: &str, candidates: &[&str]) -> String {
+    nearest(word, candidates).map_or_else(String::new, |n| format!("; did you mean '{n}'?"))
+}
+
 /// Levenshtein distance (insert, delete, substitute; case-insensitive).
 fn edit_distance(a: &str, b: &str) -> usize {
     let a: Vec<char> = a.to_lowercase().chars().collect();

@@ -39,9 +39,10 @@ pub struct Hit {
     /// Shading normal: interpolated vertex normals on smooth meshes, else `ng`; always on the
     /// same side as `ng`.
     pub ns: Vec3,
-    /// Texture coordinates: interpolated vertex UVs on meshes that have them, else the shape's
-    /// own parametrisation (barycentrics, spherical angles, polar disk coordinates).
-    pub uv: Vec2,
+    /// The shape's own hit parameters: barycentrics (b1, b2) on triangles, zero elsewhere.
+    /// Texture coordinates are derived from them only when a texture asks
+    /// ([`Scene::texture_uv`]), keeping the trigonometry of spheres off untextured hits.
+    pub barycentrics: Vec2,
     pub prim: u32,
     pub material: u32,
     /// Index of the area light this primitive belongs to, or [`NO_LIGHT`].
@@ -111,20 +112,12 @@ impl Scene {
                 if n.dot(surface.n) < 0.0 { -n } else { n }
             }
         };
-        let uv = match self.prim_uvs[prim as usize] {
-            NO_LIGHT => self.shapes[prim as usize].uv(&shape_hit, surface.p),
-            k => {
-                let [a, b, c] = self.vertex_uvs[k as usize];
-                let (b1, b2) = (shape_hit.uv.x, shape_hit.uv.y);
-                (1.0 - b1 - b2) * a + b1 * b + b2 * c
-            }
-        };
         Some(Hit {
             t: shape_hit.t,
             p: surface.p,
             ng: surface.n,
             ns,
-            uv,
+            barycentrics: shape_hit.uv,
             prim,
             material: self.prim_material[prim as usize],
             light: self.prim_light[prim as usize],
@@ -165,10 +158,29 @@ impl Scene {
         let m = self.materials[hit.material as usize];
         match (m, self.material_textures[hit.material as usize]) {
             (Material::Lambertian(mut l), Some(t)) => {
-                l.albedo *= self.textures[t as usize].eval(hit.uv);
+                l.albedo *= self.textures[t as usize].eval(self.texture_uv(hit));
                 Material::Lambertian(l)
             }
             _ => m,
+        }
+    }
+
+    /// Texture coordinates at a hit: interpolated vertex UVs on meshes that have them, else
+    /// the shape's own parametrisation (barycentrics, spherical angles, polar disk coordinates).
+    pub fn texture_uv(&self, hit: &Hit) -> Vec2 {
+        let (b1, b2) = (hit.barycentrics.x, hit.barycentrics.y);
+        match self.prim_uvs[hit.prim as usize] {
+            NO_LIGHT => {
+                let shape_hit = crate::geometry::ShapeHit {
+                    t: hit.t,
+                    uv: hit.barycentrics,
+                };
+                self.shapes[hit.prim as usize].uv(&shape_hit, hit.p)
+            }
+            k => {
+                let [a, b, c] = self.vertex_uvs[k as usize];
+                (1.0 - b1 - b2) * a + b1 * b + b2 * c
+            }
         }
     }
 

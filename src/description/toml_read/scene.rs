@@ -1,7 +1,7 @@
 //! The scene-level tables: camera, render settings, materials and their albedo textures.
 
 use super::values::{Table, Value, array, color, float, floats, integer, str_of};
-use crate::description::source::nearest;
+use crate::description::source::did_you_mean;
 use crate::description::{
     CameraSpec, ColorSpec, GATHER_MODES, INTEGRATORS, KERNELS, MaterialSpec, RenderSpec,
 };
@@ -129,10 +129,7 @@ fn one_of(t: &Table, key: &str, allowed: &[&str]) -> Result<Option<String>> {
     };
     let name = str_of(t.cx, v, &t.label(key))?;
     if !allowed.contains(&name) {
-        let hint = match nearest(name, allowed) {
-            Some(n) => format!("; did you mean '{n}'?"),
-            None => String::new(),
-        };
+        let hint = did_you_mean(name, allowed);
         return Err(t.cx.err(
             v.span(),
             format!(
@@ -181,10 +178,7 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
 
 pub(super) fn bad_type(t: &Table, found: &str, expected: &[&str]) -> Error {
     let span = t.get("type").map_or(t.span.clone(), |v| v.span());
-    let hint = match nearest(found, expected) {
-        Some(n) => format!("; did you mean '{n}'?"),
-        None => String::new(),
-    };
+    let hint = did_you_mean(found, expected);
     t.cx.err(
         span,
         format!(

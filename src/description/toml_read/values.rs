@@ -1,7 +1,7 @@
 //! Reading spanned TOML values: numbers, vectors, colours and tables, each failure located at
 //! the value's span, unknown keys answered with the nearest valid one.
 
-use crate::description::source::{Diagnostic, nearest};
+use crate::description::source::{Diagnostic, did_you_mean, nearest};
 use crate::error::{Error, Result};
 use crate::math::{Rgb, Vec3};
 use std::ops::Range;
@@ -204,10 +204,7 @@ impl<'t, 'i> Table<'t, 'i> {
         for key in self.map.keys() {
             let k = key.get_ref().as_ref();
             if !allowed.contains(&k) {
-                let hint = match nearest(k, allowed) {
-                    Some(n) => format!("; did you mean '{n}'?"),
-                    None => String::new(),
-                };
+                let hint = did_you_mean(k, allowed);
                 return Err(self.cx.err(
                     key.span(),
                     format!(
