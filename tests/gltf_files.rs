@@ -16,30 +16,6 @@ use photon::render::{RenderSettings, render};
 use photon::scene::Scene;
 use serde_json::json;
 
-/// A binary glTF (GLB) from its JSON and binary chunk.
-fn glb(doc: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
-    let mut json = serde_json::to_vec(doc).expect("json");
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
-    }
-    let mut bin = bin.to_vec();
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut out = Vec::new();
-    out.extend(b"glTF");
-    out.extend(2u32.to_le_bytes());
-    out.extend((total as u32).to_le_bytes());
-    out.extend((json.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(json);
-    out.extend((bin.len() as u32).to_le_bytes());
-    out.extend(b"BIN\0");
-    out.extend(bin);
-    out
-}
-
 /// A unit quad in the xy plane (z = 0) facing +z: positions, normals, UVs, indices.
 fn quad_buffer() -> (Vec<u8>, serde_json::Value, serde_json::Value) {
     let mut bin = Vec::new();
@@ -130,7 +106,7 @@ fn test_gltf() -> Vec<u8> {
         "bufferViews": views,
         "buffers": [{"byteLength": bin.len()}]
     });
-    glb(&doc, &bin)
+    common::glb(&doc, &bin)
 }
 
 #[test]

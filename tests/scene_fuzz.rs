@@ -129,24 +129,7 @@ fn damaged_mesh_files_never_panic() {
     };
     let mut doc = gltf.clone();
     doc["buffers"][0] = serde_json::json!({"byteLength": bin.len()});
-    let mut json = serde_json::to_vec(&doc).expect("json");
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
-    }
-    let mut padded = bin.clone();
-    while !padded.len().is_multiple_of(4) {
-        padded.push(0);
-    }
-    let mut glb = b"glTF".to_vec();
-    glb.extend(2u32.to_le_bytes());
-    glb.extend(((28 + json.len() + padded.len()) as u32).to_le_bytes());
-    glb.extend((json.len() as u32).to_le_bytes());
-    glb.extend(b"JSON");
-    glb.extend(&json);
-    glb.extend((padded.len() as u32).to_le_bytes());
-    glb.extend(b"BIN\0");
-    glb.extend(&padded);
-    inputs.push(("glb", glb));
+    inputs.push(("glb", common::glb(&doc, &bin)));
     // The MTL and texture the OBJ refers to stay intact beside it.
     for f in ["cube.mtl", "tiles.png"] {
         std::fs::copy(assets.join(f), dir.join(f)).expect("copy");
