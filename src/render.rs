@@ -8,6 +8,7 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter, stratified_2d};
 use crate::integrator::{Integrator, RayStats, Sample};
+use crate::math::Rgb;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -147,34 +148,61 @@ fn render_pixel(
     stats: &mut RayStats,
 ) -> Sample {
     let pixel = u64::from(y) * u64::from(s.width) + u64::from(x);
-    let mut sum = Sample::default();
     let rotation = Rng::keyed(s.seed, &[pixel, u64::MAX]).next_2d();
+    let mut mean = PixelMean::default();
     for i in 0..s.spp {
         let mut rng = Rng::keyed(s.seed, &[pixel, u64::from(i)]);
         let u = stratified_2d(i, s.spp, rotation, rng.next_2d());
         let ray = camera.ray(s.filter.sample_position(x, y, u));
-        let l = integrator.sample(scene, &ray, &mut rng, stats);
-        // A NaN or infinity from one sample must not poison the pixel.
-        if l.beauty.is_finite()
-            && l.direct.is_finite()
-            && l.caustic.is_finite()
-            && l.indirect.is_finite()
-        {
-            sum.beauty += l.beauty;
-            sum.direct += l.direct;
-            sum.caustic += l.caustic;
-            sum.indirect += l.indirect;
-            sum.albedo += l.albedo;
-            sum.normal += l.normal;
+        mean.add(&integrator.sample(scene, &ray, &mut rng, stats));
+    }
+    mean.finish(integrator.splits_components())
+}
+
+/// Running per-component means of a pixel's samples. A NaN or infinity must not poison the
+/// pixel, so a non-finite component of a sample is left out of that component's mean (and
+/// not counted in it, which would darken the pixel), while the sample's other components,
+/// say its direct light when a photon estimate overflowed, are kept.
+#[derive(Default)]
+struct PixelMean {
+    sums: [Rgb; 6],
+    counts: [u32; 6],
+}
+
+impl PixelMean {
+    fn add(&mut self, l: &Sample) {
+        let parts = [
+            l.beauty, l.direct, l.caustic, l.indirect, l.albedo, l.normal,
+        ];
+        for ((sum, count), v) in self.sums.iter_mut().zip(&mut self.counts).zip(parts) {
+            if v.is_finite() {
+                *sum += v;
+                *count += 1;
+            }
         }
     }
-    let k = 1.0 / s.spp as f32;
-    Sample {
-        beauty: sum.beauty * k,
-        direct: sum.direct * k,
-        caustic: sum.caustic * k,
-        indirect: sum.indirect * k,
-        albedo: sum.albedo * k,
-        normal: sum.normal.normalize_or_zero(),
+
+    fn finish(&self, splits_components: bool) -> Sample {
+        let mean = |j: usize| {
+            if self.counts[j] == 0 {
+                Rgb::ZERO
+            } else {
+                self.sums[j] / self.counts[j] as f32
+            }
+        };
+        let (direct, caustic, indirect) = (mean(1), mean(2), mean(3));
+        Sample {
+            // Keep direct + caustic + indirect = beauty when a component was dropped.
+            beauty: if splits_components {
+                direct + caustic + indirect
+            } else {
+                mean(0)
+            },
+            direct,
+            caustic,
+            indirect,
+            albedo: mean(4),
+            normal: self.sums[5].normalize_or_zero(),
+        }
     }
 }

@@ -2,9 +2,9 @@
 //! with radiometry: emission seen directly, next-event estimation of every light with several
 //! samples per area light, and mirror and glass followed recursively. No indirect diffuse light.
 
-use super::{RayStats, ShadingPoint, light_sample_contribution};
+use super::{RayStats, Sample, ShadingPoint, light_sample_contribution};
 use crate::material::{Material, TransportMode};
-use crate::math::{Ray, Rgb, offset_origin};
+use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 
@@ -35,19 +35,51 @@ pub(super) fn radiance(
     ray: &Ray,
     rng: &mut Rng,
     stats: &mut RayStats,
-) -> Rgb {
+) -> Sample {
     stats.camera += 1;
-    trace(c, scene, ray, 0, rng, stats)
+    let mut walk = Walk {
+        rng,
+        stats,
+        first_diffuse: None,
+    };
+    let beauty = trace(
+        c,
+        scene,
+        ray,
+        Branch {
+            depth: 0,
+            weight: 1.0,
+        },
+        &mut walk,
+    );
+    let (albedo, normal) = walk
+        .first_diffuse
+        .map_or((Rgb::ZERO, Vec3::ZERO), |f| (f.1, f.2));
+    Sample {
+        beauty,
+        albedo,
+        normal,
+        ..Sample::default()
+    }
 }
 
-fn trace(
-    c: &DirectConfig,
-    scene: &Scene,
-    ray: &Ray,
+/// What a camera sample carries down every branch: its random numbers, its ray counts, and
+/// the first diffuse surface met on the heaviest branch so far (weight, albedo, normal), for
+/// the albedo and normal AOVs.
+struct Walk<'a> {
+    rng: &'a mut Rng,
+    stats: &'a mut RayStats,
+    first_diffuse: Option<(f32, Rgb, Vec3)>,
+}
+
+/// Where a branch of the camera path is: its specular depth and its largest channel weight.
+#[derive(Clone, Copy)]
+struct Branch {
     depth: u32,
-    rng: &mut Rng,
-    stats: &mut RayStats,
-) -> Rgb {
+    weight: f32,
+}
+
+fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk) -> Rgb {
     let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
         return Rgb::ZERO;
     };
@@ -55,9 +87,14 @@ fn trace(
     let mut l = scene.emitted(&hit, wo);
     let sp = ShadingPoint::new(scene, &hit, wo);
     match sp.material {
-        Material::Lambertian(_) => l += direct_light(c, scene, &sp, rng, stats),
-        Material::Mirror(_) | Material::Dielectric(_) if depth < c.max_depth => {
-            l += specular(c, scene, &sp, depth, rng, stats);
+        Material::Lambertian(_) => {
+            if walk.first_diffuse.is_none_or(|f| at.weight > f.0) {
+                walk.first_diffuse = Some((at.weight, sp.material.albedo(sp.wo_local), sp.frame.n));
+            }
+            l += direct_light(c, scene, &sp, walk.rng, walk.stats);
+        }
+        Material::Mirror(_) | Material::Dielectric(_) if at.depth < c.max_depth => {
+            l += specular(c, scene, &sp, at, walk);
         }
         _ => {}
     }
@@ -98,32 +135,36 @@ fn specular(
     c: &DirectConfig,
     scene: &Scene,
     sp: &ShadingPoint,
-    depth: u32,
-    rng: &mut Rng,
-    stats: &mut RayStats,
+    at: Branch,
+    walk: &mut Walk,
 ) -> Rgb {
-    let follow = |wi_local, weight: Rgb, rng: &mut Rng, stats: &mut RayStats| {
+    let follow = |wi_local, weight: Rgb, walk: &mut Walk| {
         if weight == Rgb::ZERO {
             return Rgb::ZERO;
         }
         let wi = sp.frame.to_world(wi_local);
         let next = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
-        stats.bounce += 1;
-        weight * trace(c, scene, &next, depth + 1, rng, stats)
+        walk.stats.bounce += 1;
+        let branch = Branch {
+            depth: at.depth + 1,
+            weight: at.weight * weight.max_element(),
+        };
+        weight * trace(c, scene, &next, branch, walk)
     };
     match sp.material {
-        Material::Dielectric(d) if depth < c.split_depth => {
+        Material::Dielectric(d) if at.depth < c.split_depth => {
             let (reflected, refracted) = d.branches(sp.wo_local, TransportMode::Radiance);
-            let mut l = follow(reflected.wi, reflected.weight, rng, stats);
+            let mut l = follow(reflected.wi, reflected.weight, walk);
             if let Some(t) = refracted {
-                l += follow(t.wi, t.weight, rng, stats);
+                l += follow(t.wi, t.weight, walk);
             }
             l
         }
         m => {
-            let u_lobe = rng.next_f32();
-            match m.sample(sp.wo_local, u_lobe, rng.next_2d(), TransportMode::Radiance) {
-                Some(s) => follow(s.wi, s.weight, rng, stats),
+            let u_lobe = walk.rng.next_f32();
+            let u = walk.rng.next_2d();
+            match m.sample(sp.wo_local, u_lobe, u, TransportMode::Radiance) {
+                Some(s) => follow(s.wi, s.weight, walk),
                 None => Rgb::ZERO,
             }
         }

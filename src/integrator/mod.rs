@@ -16,7 +16,7 @@ pub use visible::{CameraPath, VisiblePoint, trace_camera_path};
 
 use crate::light::{Light, LightSample};
 use crate::material::Material;
-use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin, surface_epsilon};
+use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Scene};
 
@@ -54,15 +54,6 @@ pub struct Sample {
     pub normal: Vec3,
 }
 
-impl Sample {
-    fn beauty_only(beauty: Rgb) -> Self {
-        Self {
-            beauty,
-            ..Self::default()
-        }
-    }
-}
-
 #[derive(Clone, Debug)]
 pub enum Integrator {
     Direct(DirectConfig),
@@ -87,10 +78,8 @@ impl Integrator {
     /// One camera sample along `ray`.
     pub fn sample(&self, scene: &Scene, ray: &Ray, rng: &mut Rng, stats: &mut RayStats) -> Sample {
         match self {
-            Integrator::Direct(c) => {
-                Sample::beauty_only(direct::radiance(c, scene, ray, rng, stats))
-            }
-            Integrator::Path(c) => Sample::beauty_only(path::radiance(c, scene, ray, rng, stats)),
+            Integrator::Direct(c) => direct::radiance(c, scene, ray, rng, stats),
+            Integrator::Path(c) => path::radiance(c, scene, ray, rng, stats),
             Integrator::Photon(p) => p.sample(scene, ray, rng, stats),
         }
     }
@@ -130,19 +119,29 @@ pub(crate) fn light_sample_contribution(
     if f == Rgb::ZERO {
         return None;
     }
-    let origin = offset_origin(sp.hit.p, sp.hit.ng, ls.wi);
-    let dist = (ls.point - origin).length();
-    let clearance = if ls.is_delta {
-        0.0
-    } else {
-        surface_epsilon(ls.point)
-    };
     stats.shadow += 1;
-    if scene.occluded(origin, ls.wi, dist - clearance) {
+    if !unoccluded(scene, sp.hit, ls) {
         return None;
     }
     let value = f * ls.radiance * (wi_local.z.abs() / ls.pdf);
     Some((value, sp.material.pdf(sp.wo_local, wi_local)))
+}
+
+/// Whether the segment from the shading point to the light sample is free. Both ends are moved
+/// off their surfaces (the light's end toward the shading point), and the ray runs between the
+/// moved ends: reusing the direction and length measured from the unmoved point made the
+/// segment cross the light's own plane when a surface saw the light at a grazing angle, so the
+/// light shadowed itself (a patch beside a quad light lost 63% of its irradiance).
+fn unoccluded(scene: &Scene, hit: &Hit, ls: &LightSample) -> bool {
+    let origin = offset_origin(hit.p, hit.ng, ls.wi);
+    if ls.is_delta {
+        // A point has no surface to shadow itself with.
+        return !scene.occluded(origin, ls.wi, (ls.point - origin).length());
+    }
+    let target = offset_origin(ls.point, ls.normal, origin - ls.point);
+    let d = target - origin;
+    let dist = d.length();
+    dist > 0.0 && !scene.occluded(origin, d / dist, dist)
 }
 
 /// Power heuristic with β = 2 (Veach & Guibas 1995).

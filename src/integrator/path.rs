@@ -2,10 +2,10 @@
 //! (Veach & Guibas 1995, power heuristic) and Russian roulette: the ground truth.
 
 use super::{
-    RayStats, ShadingPoint, light_pdf_for_hit, light_sample_contribution, power_heuristic,
+    RayStats, Sample, ShadingPoint, light_pdf_for_hit, light_sample_contribution, power_heuristic,
 };
 use crate::material::TransportMode;
-use crate::math::{Ray, Rgb, offset_origin};
+use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
 use crate::scene::{NO_LIGHT, Scene};
 
@@ -32,7 +32,8 @@ pub(super) fn radiance(
     camera_ray: &Ray,
     rng: &mut Rng,
     stats: &mut RayStats,
-) -> Rgb {
+) -> Sample {
+    let mut out = Sample::default();
     let mut l = Rgb::ZERO;
     let mut beta = Rgb::ONE;
     let mut ray = *camera_ray;
@@ -62,6 +63,11 @@ pub(super) fn radiance(
         }
         let sp = ShadingPoint::new(scene, &hit, wo);
         if !sp.material.is_specular() {
+            if out.normal == Vec3::ZERO {
+                // The albedo and normal AOVs: the first diffuse surface on the path.
+                out.albedo = sp.material.albedo(sp.wo_local);
+                out.normal = sp.frame.n;
+            }
             l += beta * next_event(scene, &sp, rng, stats);
         }
         let u_lobe = rng.next_f32();
@@ -88,7 +94,8 @@ pub(super) fn radiance(
         prev_point = hit.p;
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
     }
-    l
+    out.beauty = l;
+    out
 }
 
 /// One light, chosen by power, sampled once; MIS-weighted against BSDF sampling for area lights.

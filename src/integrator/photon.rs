@@ -99,7 +99,7 @@ impl PhotonIntegrator {
                 .max(maps.global.len().div_ceil(MAX_CACHE_POINTS));
             Arc::new(IrradianceCache::build(
                 &maps.global,
-                &[&maps.global, &maps.caustic],
+                &[&maps.caustic],
                 stride,
                 &settings.global,
             ))

@@ -121,13 +121,13 @@ impl KdIndex {
         k: usize,
         max_r2: f32,
     ) -> Vec<(usize, f32)> {
-        self.nearest_by(points, q, k, max_r2, &|_, d2| Some(d2))
+        self.nearest_by(points, q, k, max_r2, &|_, _, d2| Some(d2))
             .into_sorted()
     }
 }
 
 impl KdIndex {
-    /// The `k` nearest points under a custom metric: `metric(point, euclidean d²)` returns the
+    /// The `k` nearest points under a custom metric: `metric(index, point, euclidean d²)` returns the
     /// point's distance² (which must be ≥ the Euclidean one, so pruning stays exact) or `None`
     /// to skip it. Used for disc-shaped searches and normal filters.
     pub fn nearest_by<T: KdPoint>(
@@ -136,7 +136,7 @@ impl KdIndex {
         q: Vec3,
         k: usize,
         max_r2: f32,
-        metric: &impl Fn(&T, f32) -> Option<f32>,
+        metric: &impl Fn(usize, &T, f32) -> Option<f32>,
     ) -> Nearest {
         let mut v = NearestBy {
             best: Nearest::new(k, max_r2),
@@ -207,12 +207,12 @@ struct NearestBy<'m, M> {
     metric: &'m M,
 }
 
-impl<T, M: Fn(&T, f32) -> Option<f32>> Visitor<T> for NearestBy<'_, M> {
+impl<T, M: Fn(usize, &T, f32) -> Option<f32>> Visitor<T> for NearestBy<'_, M> {
     fn r2(&self) -> f32 {
         self.best.r2()
     }
     fn visit(&mut self, i: usize, point: &T, d2: f32) {
-        if let Some(m) = (self.metric)(point, d2) {
+        if let Some(m) = (self.metric)(i, point, d2) {
             self.best.offer(m, i);
         }
     }

@@ -3,7 +3,7 @@ use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter, stratified_2d};
 use crate::integrator::{RayStats, VisiblePoint, trace_camera_path};
 use crate::math::{Rgb, Vec2};
-use crate::photon::estimate::radiance_fixed_radius;
+use crate::photon::estimate::reflected_flux_within;
 use crate::photon::{PhotonConfig, PhotonMaps, trace_photons};
 use crate::sampling::{Rng, mix64};
 use crate::scene::Scene;
@@ -295,29 +295,33 @@ fn camera_ray(
     (camera.ray(pos), rng)
 }
 
-/// Radiance at a visible point from both maps within radius `r` (direct photons left out: direct
+/// Σ f·ΔΦ at a visible point over both maps within radius `r` (direct photons left out: direct
 /// light comes from next-event estimation), and the number of photons used.
-fn photon_radiance(maps: &PhotonMaps, vp: &VisiblePoint, r: f32) -> (Rgb, u32) {
-    let material = &vp.material;
-    let (lc, mc) = radiance_fixed_radius(
-        &maps.caustic,
-        vp.p,
-        &vp.frame,
-        vp.wo_local,
-        material,
-        r,
-        false,
-    );
-    let (lg, mg) = radiance_fixed_radius(
-        &maps.global,
-        vp.p,
-        &vp.frame,
-        vp.wo_local,
-        material,
-        r,
-        true,
-    );
-    (lc + lg, mc + mg)
+fn photon_flux(maps: &PhotonMaps, vp: &VisiblePoint, r: f32) -> (Rgb, u32) {
+    let within = |map, skip_direct| {
+        reflected_flux_within(
+            map,
+            vp.p,
+            &vp.frame,
+            vp.wo_local,
+            &vp.material,
+            r,
+            skip_direct,
+        )
+    };
+    let (fc, mc) = within(&maps.caustic, false);
+    let (fg, mg) = within(&maps.global, true);
+    (fc + fg, mc + mg)
+}
+
+/// Adds the finite channels of `l` to `sum`: a NaN or infinity from one sample must not poison
+/// a pixel for good, and dropping only the bad channel keeps the rest of the light.
+fn add_finite(sum: &mut [f64; 3], l: Rgb) {
+    for (s, v) in sum.iter_mut().zip(l.to_array()) {
+        if v.is_finite() {
+            *s += f64::from(v);
+        }
+    }
 }
 
 #[expect(clippy::too_many_arguments, reason = "per-pixel kernel of a pass")]
@@ -335,9 +339,7 @@ fn sppm_pixel(
 ) {
     let (ray, mut rng) = camera_ray(camera, c.seed, pass, x, y, c.width as usize);
     let path = trace_camera_path(scene, &ray, c.max_depth, c.light_samples, &mut rng, stats);
-    for k in 0..3 {
-        px.direct[k] += f64::from(path.direct[k]);
-    }
+    add_finite(&mut px.direct, path.direct);
     let Some(vp) = path.visible else {
         return;
     };
@@ -347,18 +349,19 @@ fn sppm_pixel(
             .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance);
         px.r2 = f64::from(r0) * f64::from(r0);
     }
-    let (l, m) = photon_radiance(maps, &vp, px.r2.sqrt() as f32);
+    let (flux, m) = photon_flux(maps, &vp, px.r2.sqrt() as f32);
     let m = f64::from(m);
+    // Σ f·Φ weighted by the specular chain; a non-finite channel is dropped.
+    let phi = (flux * vp.beta)
+        .to_array()
+        .map(|v| if v.is_finite() { v } else { 0.0 });
     if m == 0.0 {
         return;
     }
-    // Back from radiance to Σ f·Φ (flux), weighted by the specular chain.
-    let phi = l * vp.beta;
-    let area = PI * px.r2;
     let n_new = px.n + c.alpha * m;
     let r2_new = px.r2 * n_new / (px.n + m);
-    for k in 0..3 {
-        px.tau[k] = (px.tau[k] + f64::from(phi[k]) * area) * (r2_new / px.r2);
+    for (tau, phi) in px.tau.iter_mut().zip(phi) {
+        *tau = (*tau + f64::from(phi)) * (r2_new / px.r2);
     }
     px.n = n_new;
     px.r2 = r2_new;
@@ -385,7 +388,19 @@ fn ppm_pixel(
     let r0 = c
         .initial_radius
         .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance);
-    let (photons, _) = photon_radiance(maps, &vp, r0 * radius_scale);
-    let l = path.direct + vp.beta * photons;
-    if l.is_finite() { l } else { Rgb::ZERO }
+    let r = f64::from(r0) * f64::from(radius_scale);
+    let (flux, m) = photon_flux(maps, &vp, r as f32);
+    let photons = if m == 0 {
+        Rgb::ZERO
+    } else {
+        // In f64: π r² underflows f32 for tiny radii; a channel that still overflows is dropped.
+        let inv_area = 1.0 / (PI * r * r);
+        let l = (flux * vp.beta)
+            .to_array()
+            .map(|v| (f64::from(v) * inv_area) as f32);
+        Rgb::from_array(l)
+    };
+    let finite =
+        |v: Rgb| Rgb::from_array(v.to_array().map(|x| if x.is_finite() { x } else { 0.0 }));
+    finite(path.direct) + finite(photons)
 }
