@@ -327,6 +327,34 @@ fn irradiance_cache_equals_a_brute_force_estimate_at_its_sites() {
 }
 
 #[test]
+fn disc_filtered_k_nearest_irradiance_equals_brute_force() {
+    let map = corner_map(20_000, 8, MapKind::Global);
+    let mut rng = Rng::keyed(41, &[]);
+    for q in 0..400 {
+        let (a, b) = (rng.next_f32(), rng.next_f32());
+        // Half on the floor, half on the wall, some right at the corner.
+        let (p, n) = if q % 2 == 0 {
+            (Vec3::new(a * 0.2, 0.0, b), Vec3::Y)
+        } else {
+            (Vec3::new(0.0, a * 0.2, b), Vec3::X)
+        };
+        for k in [1, 8, 50] {
+            let g = GatherParams {
+                k,
+                max_radius: 0.04,
+                kernel: Kernel::Epanechnikov,
+            };
+            let got = irradiance(&map, p, n, &g);
+            let want = brute_irradiance(&map, p, n, k, g.max_radius, &|_| false);
+            assert!(
+                (got - want).abs().max_element() <= 1e-4 * want.max_element().max(1e-3),
+                "query {q} at {p}, k = {k}: {got} vs brute force {want}"
+            );
+        }
+    }
+}
+
+#[test]
 fn irradiance_cache_lookups_average_to_the_exact_irradiance() {
     // A lookup reads the nearest site, so each site counts by its Voronoi area. Sites that
     // counted themselves were k/(k−2) too bright, and estimates made from the photons that

@@ -4,7 +4,7 @@
 use photon::description::builtin;
 use photon::geometry::{Disk, Shape, Triangle};
 use photon::light::{AreaLight, Light, PointLight, SpotLight};
-use photon::math::{Rgb, Vec3};
+use photon::math::{Rgb, Vec2, Vec3};
 use photon::sampling::{Rng, uniform_sphere};
 use std::f32::consts::PI;
 
@@ -74,17 +74,27 @@ fn point_and_spot_power_match_monte_carlo() {
         40.0,
         15.0,
     );
+    // Power = ∮ I(ω) dω, with the intensity I(ω) = radiance · d² that next-event estimation
+    // sees from a point at distance d in direction ω: the lights' sampling against their power.
+    let intensity = |light: &Light, w: Vec3| {
+        let d = 2.5f32;
+        light
+            .sample_li(w * d, 0.5, Vec2::splat(0.5))
+            .map_or(Rgb::ZERO, |s| s.radiance * s.pdf.recip() * d * d)
+    };
+    let (point_light, spot_light) = (Light::Point(point.clone()), Light::Spot(spot.clone()));
     let (mut sp, mut ss) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
     for _ in 0..N {
         let w = uniform_sphere(rng.next_2d());
-        sp += (point.intensity * 4.0 * PI).as_dvec3();
-        ss += (spot.intensity * spot.falloff(w) * 4.0 * PI).as_dvec3();
+        sp += (intensity(&point_light, w) * 4.0 * PI).as_dvec3();
+        ss += (intensity(&spot_light, w) * 4.0 * PI).as_dvec3();
     }
-    assert!(close(
-        (sp / N as f64).as_vec3(),
-        Light::Point(point).power(),
-        1e-4
-    ));
+    let point_mc = (sp / N as f64).as_vec3();
+    assert!(
+        close(point_mc, point_light.power(), 1e-4),
+        "point MC {point_mc} vs {}",
+        point_light.power()
+    );
     let spot_mc = (ss / N as f64).as_vec3();
     assert!(
         close(spot_mc, spot.power(), 0.01),
