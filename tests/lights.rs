@@ -82,7 +82,7 @@ fn point_and_spot_power_match_monte_carlo() {
             .sample_li(w * d, 0.5, Vec2::splat(0.5))
             .map_or(Rgb::ZERO, |s| s.radiance * s.pdf.recip() * d * d)
     };
-    let (point_light, spot_light) = (Light::Point(point.clone()), Light::Spot(spot.clone()));
+    let (point_light, spot_light) = (Light::Point(point), Light::Spot(spot));
     let (mut sp, mut ss) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
     for _ in 0..N {
         let w = uniform_sphere(rng.next_2d());
