@@ -22,5 +22,6 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod texture;
+pub mod validate;
 
 pub use error::{Error, Result};

@@ -6,6 +6,7 @@ mod photons;
 mod progress;
 mod progressive;
 mod render;
+mod validate;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -41,6 +42,9 @@ enum Command {
     Model(model::ModelArgs),
     /// List the built-in scenes, or write one (or any scene file) as a TOML scene.
     Scenes(ScenesArgs),
+    /// Render the validation scenes with every integrator and compare them with their
+    /// references: time, relMSE, mean ratios and the worst region, as a table.
+    Validate(validate::ValidateArgs),
 }
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -51,6 +55,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Model(args) => model::run(&args),
         Command::Merge(args) => progressive::merge(&args),
         Command::Scenes(args) => scenes(&args),
+        Command::Validate(args) => validate::run_suite(&args),
     }
 }
 

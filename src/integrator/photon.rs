@@ -16,11 +16,12 @@ use super::direct::{DirectConfig, direct_light};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::{Material, TransportMode};
 use crate::math::{Frame, Ray, Rgb, offset_origin};
+use crate::photon::IrradianceCache;
 use crate::photon::PhotonMaps;
-use crate::photon::estimate::{self, GatherParams, IrradianceCache, Kernel};
+use crate::photon::estimate::{self, GatherParams, Kernel};
 use crate::sampling::{Rng, cosine_hemisphere};
 use crate::scene::Scene;
-use std::f32::consts::FRAC_1_PI;
+use std::f32::consts::{FRAC_1_PI, PI};
 use std::sync::Arc;
 
 /// Precomputed irradiance points are capped: beyond this, more points only cost build time
@@ -242,6 +243,11 @@ impl PhotonIntegrator {
     }
 
     /// Indirect light at a diffuse point by final gathering over the precomputed irradiance.
+    ///
+    /// Where the scene has hot regions (see [`crate::photon::hot`]) above the surface, half
+    /// the rays aim at them and half are cosine-distributed; each ray is weighted by the
+    /// balance heuristic over both (Veach 1997, §9.2.1: f / (n_c p_c + n_h p_h)), which keeps
+    /// the estimate unbiased and removes the speckles that small, bright regions made.
     fn final_gather(
         &self,
         scene: &Scene,
@@ -250,22 +256,46 @@ impl PhotonIntegrator {
         stats: &mut RayStats,
     ) -> Rgb {
         let n = self.settings.gather_rays;
+        let guide = self
+            .cache
+            .as_ref()
+            .and_then(|c| c.hot_sampler(sp.hit.p, sp.frame.n, self.settings.cache_radius));
+        let n_guided = if guide.is_some() { n / 2 } else { 0 };
+        let n_cosine = n - n_guided;
+        let (c_count, g_count) = (n_cosine as f32, n_guided as f32);
         let mut sum = Rgb::ZERO;
-        // Stratify the cosine-weighted directions on a jittered grid when n is a square.
-        let side = (n as f32).sqrt() as u32;
-        let strata = if side * side == n { side } else { 1 };
-        for k in 0..n {
+        let mut trace = |wi: crate::math::Vec3, rng: &mut Rng, stats: &mut RayStats| {
+            let cos = wi.dot(sp.frame.n);
+            if cos <= 0.0 {
+                return;
+            }
+            // f·cos / (n_c p_c + n_g p_g) with f = ρ/π and p_c = cos/π.
+            let p_guided = guide.as_ref().map_or(0.0, |g| g.pdf(wi));
+            let weight = cos / (c_count * cos + g_count * PI * p_guided);
+            let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
+            sum += weight * self.gathered_radiance(scene, &ray, rng, stats);
+        };
+        // Cosine rays, stratified on a jittered grid when their count is a square (else in u).
+        let side = (n_cosine as f32).sqrt() as u32;
+        let strata = if side * side == n_cosine { side } else { 1 };
+        for k in 0..n_cosine {
             let mut u = rng.next_2d();
             if strata > 1 {
                 u = (glam::Vec2::new((k % strata) as f32, (k / strata) as f32) + u) / strata as f32;
+            } else {
+                u.x = (k as f32 + u.x) / c_count;
             }
-            let wi = sp.frame.to_world(cosine_hemisphere(u));
-            let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
-            sum += self.gathered_radiance(scene, &ray, rng, stats);
+            trace(sp.frame.to_world(cosine_hemisphere(u)), rng, stats);
         }
-        // Cosine sampling: f·cos/pdf = ρ for a Lambertian surface.
-        let albedo = sp.material.albedo(sp.wo_local);
-        albedo * sum / n as f32
+        if let Some(g) = &guide {
+            for k in 0..n_guided {
+                let u_cell = (k as f32 + rng.next_f32()) / g_count;
+                let wi = g.sample(u_cell, rng.next_2d());
+                trace(wi, rng, stats);
+            }
+        }
+        // ρ for a Lambertian surface (the weights above carry the 1/π and the ray counts).
+        sp.material.albedo(sp.wo_local) * sum
     }
 
     /// Radiance arriving along a gather ray from diffuse surfaces (through mirrors and glass),

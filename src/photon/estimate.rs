@@ -8,12 +8,9 @@
 //! a disc flattened along the normal, so photons on a nearby wall or the other face of a thin
 //! object do not leak in.
 
-use super::kdtree::{KdIndex, KdPoint};
 use super::map::PhotonMap;
-use super::record::{decode_octahedral, encode_octahedral};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec3};
-use rayon::prelude::*;
 use std::f32::consts::PI;
 
 /// Density-estimation kernels, each normalised to integrate to 1 over its disc.
@@ -101,7 +98,7 @@ const DISC: f32 = 3.0;
 
 /// Distance² in the flattened metric, or `None` if the photon is on another surface.
 #[inline]
-fn disc_distance2(d: Vec3, d2: f32, n: Vec3, photon_normal: Vec3) -> Option<f32> {
+pub(super) fn disc_distance2(d: Vec3, d2: f32, n: Vec3, photon_normal: Vec3) -> Option<f32> {
     if photon_normal.dot(n) < NORMAL_AGREEMENT {
         return None;
     }
@@ -111,19 +108,19 @@ fn disc_distance2(d: Vec3, d2: f32, n: Vec3, photon_normal: Vec3) -> Option<f32>
 
 /// Which photons of a map a gather may use.
 #[derive(Clone, Copy, Debug, Default)]
-struct Filter {
+pub(super) struct Filter {
     /// Leave out photons straight from a light (direct light comes from next-event estimation).
-    skip_direct: bool,
+    pub(super) skip_direct: bool,
     /// Leave out the irradiance cache's sites for this stride (0: none): the cache sits at
-    /// those photons, and its estimates must not use them (see [`IrradianceCache`]).
-    skip_sites: usize,
+    /// those photons, and its estimates must not use them (see [`super::IrradianceCache`]).
+    pub(super) skip_sites: usize,
 }
 
 impl Filter {
     #[inline]
     fn skips(&self, ph: &super::Photon) -> bool {
         (self.skip_direct && ph.is_direct())
-            || (self.skip_sites > 1 && is_cache_site(ph, self.skip_sites))
+            || (self.skip_sites > 1 && super::cache::is_cache_site(ph, self.skip_sites))
     }
 }
 
@@ -136,7 +133,7 @@ impl Filter {
 /// estimate does, is k/(k−1) too bright with the box kernel. When fewer than k + 1 photons lie
 /// within the maximum radius, all of them are used with the maximum radius; the two cases
 /// together are still unbiased (the expectation splits into P(N ≥ k) + P(N < k) = 1).
-fn gather(
+pub(super) fn gather(
     map: &PhotonMap,
     p: Vec3,
     n: Vec3,
@@ -244,127 +241,17 @@ pub fn irradiance(map: &PhotonMap, p: Vec3, n: Vec3, g: &GatherParams) -> Rgb {
     irradiance_filtered(map, p, n, g, Filter::default())
 }
 
-fn irradiance_filtered(map: &PhotonMap, p: Vec3, n: Vec3, g: &GatherParams, filter: Filter) -> Rgb {
+pub(super) fn irradiance_filtered(
+    map: &PhotonMap,
+    p: Vec3,
+    n: Vec3,
+    g: &GatherParams,
+    filter: Filter,
+) -> Rgb {
     let mut e = Rgb::ZERO;
     let photons = map.photons();
     gather(map, p, n, g, filter, &mut |i, w| {
         e += photons[i].relative_power() * w;
     });
     e * map.power_scale
-}
-
-/// Whether a photon is one of the irradiance cache's sites for `stride`: about one photon in
-/// `stride`, chosen by a hash of its position bits, so that the sites are an independent random
-/// thinning of the map (every `stride`-th photon in kd-tree order would be spatially
-/// stratified instead).
-pub fn is_cache_site(ph: &super::Photon, stride: usize) -> bool {
-    if stride <= 1 {
-        return true;
-    }
-    let p = ph.position();
-    let bits = (u64::from(p.x.to_bits()) << 32 | u64::from(p.y.to_bits()))
-        ^ u64::from(p.z.to_bits()).rotate_left(17);
-    splitmix64(bits).is_multiple_of(stride as u64)
-}
-
-/// SplitMix64's finaliser (Steele et al. 2014): a well-mixed 64-bit hash.
-fn splitmix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-/// Irradiance precomputed at a subset of the global map's photons (Christensen, "Faster
-/// Photon Map Global Illumination", JGT 1999), so that a final-gather ray costs one nearest
-/// lookup instead of a full density estimate.
-///
-/// A gather ray reads the nearest site, so each site is read in proportion to the area of its
-/// Voronoi cell. If a site's estimate used the photons that also place the sites, a chance
-/// cluster of photons would both raise the estimate and shrink the cells of the sites in it
-/// (and a sparse spot lower the estimate and widen the cells): the area-weighted mean would be
-/// too dark (−5% at k = 32 on `cornell`, more at small k). And a site counted in its own
-/// estimate adds the kernel's peak (+k/(k−2) with Epanechnikov). So the sites are an
-/// independent random thinning of the map (see [`is_cache_site`]), and the estimates use only
-/// the other photons, scaled by stride/(stride − 1): positions and estimates are independent,
-/// and the lookup is unbiased up to the estimate's smoothing.
-#[derive(Clone, Debug)]
-pub struct IrradianceCache {
-    points: Vec<CachePoint>,
-    index: KdIndex,
-}
-
-#[derive(Clone, Copy, Debug)]
-struct CachePoint {
-    position: Vec3,
-    normal: [u8; 2],
-    irradiance: Rgb,
-}
-
-impl KdPoint for CachePoint {
-    fn position(&self) -> Vec3 {
-        self.position
-    }
-}
-
-impl IrradianceCache {
-    /// Irradiance at about one photon in `stride` of `sites` (at least 2), from the other
-    /// photons of `sites` and all photons of `others`.
-    pub fn build(
-        sites: &PhotonMap,
-        others: &[&PhotonMap],
-        stride: usize,
-        g: &GatherParams,
-    ) -> Self {
-        let stride = stride.max(2);
-        let thinned = Filter {
-            skip_sites: stride,
-            ..Filter::default()
-        };
-        let rest = stride as f32 / (stride - 1) as f32;
-        let mut points: Vec<CachePoint> = sites
-            .photons()
-            .par_iter()
-            .filter(|ph| is_cache_site(ph, stride))
-            .map(|ph| {
-                let (p, n) = (ph.position(), ph.normal());
-                let own = irradiance_filtered(sites, p, n, g, thinned) * rest;
-                CachePoint {
-                    position: p,
-                    normal: encode_octahedral(n),
-                    irradiance: own + others.iter().map(|m| irradiance(m, p, n, g)).sum::<Rgb>(),
-                }
-            })
-            .collect();
-        let index = super::kdtree::build(&mut points);
-        Self { points, index }
-    }
-
-    /// The sites: (position, normal, irradiance), in the cache's order.
-    pub fn points(&self) -> impl Iterator<Item = (Vec3, Vec3, Rgb)> + '_ {
-        self.points
-            .iter()
-            .map(|c| (c.position, decode_octahedral(c.normal), c.irradiance))
-    }
-
-    pub fn len(&self) -> usize {
-        self.points.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.points.is_empty()
-    }
-
-    /// Irradiance of the nearest cache point on the same surface within `max_radius`.
-    pub fn lookup(&self, p: Vec3, n: Vec3, max_radius: f32) -> Option<Rgb> {
-        let metric = |_, c: &CachePoint, d2: f32| {
-            disc_distance2(c.position - p, d2, n, decode_octahedral(c.normal))
-        };
-        let best = self
-            .index
-            .nearest_by(&self.points, p, 1, max_radius * max_radius, &metric);
-        best.found()
-            .first()
-            .map(|&(_, i)| self.points[i].irradiance)
-    }
 }

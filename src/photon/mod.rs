@@ -6,13 +6,16 @@
 //! Photon power is flux in watts and already includes 1/N of the emitted count, so a radiance
 //! estimate is Σ f · Φ / area with no further division.
 
+pub mod cache;
 pub mod estimate;
+pub mod hot;
 pub mod kdtree;
 mod map;
 mod record;
 mod trace;
 
-pub use estimate::{GatherParams, IrradianceCache, Kernel};
+pub use cache::{IrradianceCache, is_cache_site};
+pub use estimate::{GatherParams, Kernel};
 pub use map::{MapKind, PhotonMap};
 pub use record::{Channel, Photon, decode_octahedral, encode_octahedral};
 pub use trace::{MAX_PHOTONS, PhotonConfig, PhotonMaps, TraceStats, trace_photons};

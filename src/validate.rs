@@ -1,0 +1,299 @@
+//! The validation suite: small scenes with converged references made by another renderer
+//! (Mitsuba 3, `validation/make_references.py`), rendered by every integrator and compared.
+//!
+//! A case is a folder `NAME/` holding `NAME.toml` (the scene) and `reference.exr`. Each
+//! integrator renders the scene at a square size that divides the reference's, and the
+//! reference is averaged down to it (exact for box-filtered pixels). The figures are per-channel
+//! mean ratios, relMSE, and the worst of a 4×4 grid of regions (largest error of its mean), so
+//! that a bias confined to one corner of a scene is not averaged away.
+
+use crate::compare::{Comparison, compare};
+use crate::description::load_scene;
+use crate::error::{Error, Result};
+use crate::film::{Image, PixelFilter};
+use crate::integrator::{Integrator, PathConfig, PhotonIntegrator, PhotonSettings};
+use crate::io::image::read_image;
+use crate::math::luminance;
+use crate::photon::{PhotonConfig, trace_photons};
+use crate::progressive::{Method as ProgressiveMethod, ProgressiveConfig, ProgressiveState};
+use crate::render::{RenderSettings, render};
+use crate::scene::Scene;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// The integrators the suite runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    Path,
+    Photon,
+    Sppm,
+    Ppm,
+}
+
+impl Method {
+    pub const ALL: [Method; 4] = [Method::Path, Method::Photon, Method::Sppm, Method::Ppm];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Path => "path",
+            Method::Photon => "photon",
+            Method::Sppm => "sppm",
+            Method::Ppm => "ppm",
+        }
+    }
+}
+
+/// How much work each integrator gets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget {
+    /// Rendered image size (square); must divide the reference's size.
+    pub size: u32,
+    pub path_spp: u32,
+    pub photon_spp: u32,
+    pub global_photons: u64,
+    pub caustic_photons: u64,
+    pub passes: u32,
+    pub photons_per_pass: u64,
+    /// Initial radius of the progressive methods as a fraction of the scene's diagonal. The
+    /// command line's default (4 pixel footprints) is made for full-size images: at 32² it is
+    /// a fifth of a room, and its bias takes thousands of passes to fade.
+    pub radius_fraction: f32,
+}
+
+impl Budget {
+    /// What the test suite runs: every scene and integrator in well under a minute in all.
+    pub const QUICK: Budget = Budget {
+        size: 32,
+        path_spp: 256,
+        photon_spp: 16,
+        global_photons: 100_000,
+        caustic_photons: 300_000,
+        passes: 64,
+        photons_per_pass: 20_000,
+        radius_fraction: 0.005,
+    };
+
+    /// What `photon validate` runs by default and `validation/REPORT.md` records.
+    pub const FULL: Budget = Budget {
+        size: 64,
+        path_spp: 1024,
+        photon_spp: 16,
+        global_photons: 250_000,
+        caustic_photons: 1_000_000,
+        passes: 256,
+        photons_per_pass: 50_000,
+        radius_fraction: 0.005,
+    };
+}
+
+/// One validation scene.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub name: String,
+    pub scene_file: PathBuf,
+    pub reference_file: PathBuf,
+}
+
+/// Every case in `dir`: sub-folders `NAME/` with `NAME.toml` and `reference.exr`, by name.
+pub fn find_cases(dir: &Path) -> Result<Vec<Case>> {
+    let entries = std::fs::read_dir(dir).map_err(|source| Error::Read {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let mut cases = Vec::new();
+    for entry in entries.flatten() {
+        let folder = entry.path();
+        let Some(name) = folder.file_name().and_then(|n| n.to_str()) else {
+            continue;
+        };
+        let scene_file = folder.join(format!("{name}.toml"));
+        let reference_file = folder.join("reference.exr");
+        if scene_file.is_file() && reference_file.is_file() {
+            cases.push(Case {
+                name: name.to_string(),
+                scene_file,
+                reference_file,
+            });
+        }
+    }
+    cases.sort_by(|a, b| a.name.cmp(&b.name));
+    Ok(cases)
+}
+
+/// The region of a 4×4 grid whose mean luminance is furthest from the reference's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    pub row: u32,
+    pub column: u32,
+    /// Mean luminance over the reference's, in that region.
+    pub ratio: f64,
+    /// |difference of the means| / the whole reference's mean luminance.
+    pub share: f64,
+}
+
+/// One scene rendered by one integrator, against its reference.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub case: String,
+    pub method: Method,
+    pub seconds: f64,
+    pub comparison: Comparison,
+    pub worst: Region,
+}
+
+/// A loaded case: the scene and its reference at `size`.
+pub struct Loaded {
+    pub scene: Scene,
+    pub reference: Image,
+}
+
+/// Load a case's scene and its reference averaged down to `size`².
+pub fn load_case(case: &Case, size: u32) -> Result<Loaded> {
+    let (scene, _) = load_scene(&case.scene_file.to_string_lossy())?;
+    let full = read_image(&case.reference_file)?;
+    let bad = |m: String| Error::InvalidSetting(format!("{}: {m}", case.name));
+    if full.width != full.height || size == 0 || full.width % size != 0 {
+        return Err(bad(format!(
+            "the reference is {}×{}; the size {size} must divide it and it must be square",
+            full.width, full.height
+        )));
+    }
+    let reference = full
+        .downsample(full.width / size)
+        .ok_or_else(|| bad("cannot average the reference down".into()))?;
+    Ok(Loaded { scene, reference })
+}
+
+/// Render a loaded case with `method` and compare it with the reference.
+pub fn run(case: &Case, loaded: &Loaded, method: Method, budget: &Budget) -> Result<Outcome> {
+    let start = Instant::now();
+    let image = render_with(&loaded.scene, method, budget)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let comparison = compare(&image, &loaded.reference, None).ok_or_else(|| {
+        Error::InvalidSetting(format!("{}: image and reference differ in size", case.name))
+    })?;
+    Ok(Outcome {
+        case: case.name.clone(),
+        method,
+        seconds,
+        comparison,
+        worst: worst_region(&image, &loaded.reference),
+    })
+}
+
+/// The image `method` makes of `scene` with `budget` (seed 0, box filter).
+pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Image> {
+    let settings = |spp| RenderSettings {
+        width: budget.size,
+        height: budget.size,
+        spp,
+        seed: 0,
+        filter: PixelFilter::Box,
+    };
+    let none = |_, _| {};
+    match method {
+        Method::Path => {
+            let integrator = Integrator::Path(PathConfig::default());
+            Ok(render(scene, &integrator, &settings(budget.path_spp), &none)?.image)
+        }
+        Method::Photon => {
+            let config = PhotonConfig {
+                photons: budget.caustic_photons.max(budget.global_photons),
+                global_photons: Some(budget.global_photons),
+                ..PhotonConfig::default()
+            };
+            let maps = trace_photons(scene, &config, &none)?;
+            let s = PhotonSettings::auto(scene.bounds().extent().length());
+            let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(s, Arc::new(maps))));
+            Ok(render(scene, &integrator, &settings(budget.photon_spp), &none)?.image)
+        }
+        Method::Sppm | Method::Ppm => {
+            let config = ProgressiveConfig {
+                method: if method == Method::Sppm {
+                    ProgressiveMethod::Sppm
+                } else {
+                    ProgressiveMethod::Ppm
+                },
+                width: budget.size,
+                height: budget.size,
+                seed: 0,
+                alpha: 2.0 / 3.0,
+                photons_per_pass: budget.photons_per_pass,
+                initial_radius: Some(budget.radius_fraction * scene.bounds().extent().length()),
+                max_depth: 16,
+                light_samples: 1,
+            };
+            let mut state = ProgressiveState::new(scene, config, 0)?;
+            for _ in 0..budget.passes {
+                state.run_pass(scene)?;
+            }
+            Ok(state.image())
+        }
+    }
+}
+
+/// The 4×4-grid region with the largest error of its mean luminance.
+pub fn worst_region(image: &Image, reference: &Image) -> Region {
+    const GRID: u32 = 4;
+    let lum = |img: &Image, x0: u32, x1: u32, y0: u32, y1: u32| {
+        let mut sum = 0.0f64;
+        for y in y0..y1 {
+            for x in x0..x1 {
+                sum += f64::from(luminance(img.get(x, y)));
+            }
+        }
+        sum / f64::from((x1 - x0) * (y1 - y0)).max(1.0)
+    };
+    let (w, h) = (reference.width, reference.height);
+    let whole = lum(reference, 0, w, 0, h).max(1e-12);
+    let mut worst = Region {
+        row: 0,
+        column: 0,
+        ratio: 1.0,
+        share: -1.0,
+    };
+    for row in 0..GRID {
+        for column in 0..GRID {
+            let (x0, x1) = (column * w / GRID, (column + 1) * w / GRID);
+            let (y0, y1) = (row * h / GRID, (row + 1) * h / GRID);
+            let (a, b) = (lum(image, x0, x1, y0, y1), lum(reference, x0, x1, y0, y1));
+            let share = (a - b).abs() / whole;
+            if share > worst.share {
+                worst = Region {
+                    row,
+                    column,
+                    ratio: if b > 0.0 { a / b } else { f64::INFINITY },
+                    share,
+                };
+            }
+        }
+    }
+    worst
+}
+
+/// The outcomes as a Markdown table.
+pub fn table(outcomes: &[Outcome]) -> String {
+    let mut s = String::from(
+        "| scene | integrator | time (s) | relMSE | mean ratio R | G | B | worst region (row, col): ratio, share of mean |\n\
+         |---|---|---:|---:|---:|---:|---:|---|\n",
+    );
+    for o in outcomes {
+        let c = &o.comparison;
+        s += &format!(
+            "| {} | {} | {:.2} | {:.5} | {:.4} | {:.4} | {:.4} | ({}, {}): {:.3}, {:.1}% |\n",
+            o.case,
+            o.method.name(),
+            o.seconds,
+            c.overall.rel_mse,
+            c.red.mean_ratio,
+            c.green.mean_ratio,
+            c.blue.mean_ratio,
+            o.worst.row,
+            o.worst.column,
+            o.worst.ratio,
+            100.0 * o.worst.share,
+        );
+    }
+    s
+}
