@@ -65,10 +65,10 @@ impl Budget {
     /// What the test suite runs: every scene and integrator in well under a minute in all.
     pub const QUICK: Budget = Budget {
         size: 32,
-        path_spp: 256,
+        path_spp: 1024,
         photon_spp: 16,
-        global_photons: 100_000,
-        caustic_photons: 300_000,
+        global_photons: 250_000,
+        caustic_photons: 500_000,
         passes: 64,
         photons_per_pass: 20_000,
         radius_fraction: 0.005,

@@ -50,6 +50,8 @@ pub struct IrradianceCache {
     points: Vec<CachePoint>,
     index: KdIndex,
     hot: Vec<HotCluster>,
+    /// Luminance of irradiance above which a site is hot.
+    hot_threshold: f32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -99,8 +101,19 @@ impl IrradianceCache {
         let flux =
             luminance(sites.total_power() + others.iter().map(|m| m.total_power()).sum::<Rgb>());
         let flux_per_site = flux / points.len().max(1) as f32;
-        let hot = hot_clusters(&points, flux_per_site, sites.bounds().extent().length());
-        Self { points, index, hot }
+        let hot_threshold = hot_threshold(&points);
+        let hot = hot_clusters(
+            &points,
+            hot_threshold,
+            flux_per_site,
+            sites.bounds().extent().length(),
+        );
+        Self {
+            points,
+            index,
+            hot,
+            hot_threshold,
+        }
     }
 
     /// The sites: (position, normal, irradiance), in the cache's order.
@@ -121,6 +134,11 @@ impl IrradianceCache {
     /// Irradiance of the nearest cache point on the same surface within `max_radius`.
     pub fn lookup(&self, p: Vec3, n: Vec3, max_radius: f32) -> Option<Rgb> {
         self.nearest(p, n, max_radius).map(|c| c.irradiance)
+    }
+
+    /// Whether an irradiance is above the hot threshold.
+    pub fn is_hot(&self, e: Rgb) -> bool {
+        luminance(e) > self.hot_threshold
     }
 
     /// The hot regions: sites far brighter than the rest, in clusters.
@@ -149,21 +167,32 @@ impl IrradianceCache {
     }
 }
 
-/// Clusters of the sites whose irradiance is over `HOT_FACTOR` times the scene's mean. Sites
-/// are about as dense as the photons, so each stands for an area ∝ 1/E: the area-weighted mean
-/// irradiance is the sites' harmonic mean (their plain mean is dominated by the hot regions).
-fn hot_clusters(points: &[CachePoint], flux_per_site: f32, scene_diagonal: f32) -> Vec<HotCluster> {
-    let lum = |c: &CachePoint| luminance(c.irradiance).max(0.0);
-    let lit: Vec<f32> = points.iter().map(lum).filter(|&e| e > 0.0).collect();
+/// `HOT_FACTOR` times the scene's mean irradiance. Sites are about as dense as the photons,
+/// so each stands for an area ∝ 1/E: the area-weighted mean irradiance is the sites' harmonic
+/// mean (their plain mean is dominated by the hot regions). Infinite if nothing is lit.
+fn hot_threshold(points: &[CachePoint]) -> f32 {
+    let lit: Vec<f32> = points
+        .iter()
+        .map(|c| luminance(c.irradiance))
+        .filter(|&e| e > 0.0)
+        .collect();
     if lit.is_empty() {
-        return Vec::new();
+        return f32::INFINITY;
     }
     let inverse_sum: f64 = lit.iter().map(|&e| 1.0 / f64::from(e)).sum();
-    let mean = lit.len() as f64 / inverse_sum;
-    let threshold = HOT_FACTOR * mean as f32;
+    HOT_FACTOR * (lit.len() as f64 / inverse_sum) as f32
+}
+
+/// Clusters of the sites over the hot threshold.
+fn hot_clusters(
+    points: &[CachePoint],
+    threshold: f32,
+    flux_per_site: f32,
+    scene_diagonal: f32,
+) -> Vec<HotCluster> {
     let hot: Vec<Vec3> = points
         .iter()
-        .filter(|c| lum(c) > threshold)
+        .filter(|c| luminance(c.irradiance) > threshold)
         .map(|c| c.position)
         .collect();
     clusters(hot, flux_per_site, scene_diagonal)

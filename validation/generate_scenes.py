@@ -1,0 +1,930 @@
+#!/usr/bin/env python3
+"""Write the validation scenes: for every scene NAME, NAME/NAME.toml (Photon) and NAME/NAME.xml
+(Mitsuba 3), plus the small assets they share (PNG texture, PLY/OBJ meshes).
+
+Both files are written from one description here, so the two renderers see the same geometry,
+materials and lights. Edit this file, not the generated ones, then run
+
+    python validation/generate_scenes.py            # all scenes
+    python validation/generate_scenes.py NAME ...   # some
+    python validation/make_references.py NAME ...   # their Mitsuba references
+
+Only the Python standard library is needed (numpy is used if present, for nothing essential).
+
+Conventions (checked scene by scene against Photon's `path` integrator, see README.md):
+- camera: Photon `position/look_at/up/fov` (vertical, degrees) = Mitsuba `lookat` +
+  `fov_axis="y"`; both put +x on the right when looking down -z with +y up.
+- diffuse = Mitsuba `twosided(diffuse)` (Photon's Lambertian is two-sided; Mitsuba's is not).
+- mirror = Mitsuba `twosided(conductor material="none")` with `specular_reflectance`.
+- glass = Mitsuba `dielectric` with `int_ior` = ior and `ext_ior` = 1 (not Mitsuba's default air).
+- quads are parallelograms here, written as Mitsuba `rectangle`s whose to_world columns are the
+  two half-edges and the normal (v1 - v0) x (v3 - v0): the side Photon's one-sided emitters light.
+- emitters carry a black diffuse BSDF in Mitsuba (Photon lights without a material reflect
+  nothing; Mitsuba's default BSDF is a 0.5 grey diffuse).
+- spot lights: a hard cone (Photon `falloff = 0`, Mitsuba `beam_width = cutoff_angle`): the two
+  soft-edge profiles differ (smoothstep in cos theta vs linear in angle) and cannot be matched.
+- meshes without normals are flat in Photon: Mitsuba gets `face_normals = true`.
+"""
+
+import math
+import os
+import struct
+import sys
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+RES = 128
+
+# --------------------------------------------------------------------------------------------
+# Small vector helpers (no numpy needed)
+
+
+def add(a, b):
+    return [a[i] + b[i] for i in range(3)]
+
+
+def sub(a, b):
+    return [a[i] - b[i] for i in range(3)]
+
+
+def mul(a, s):
+    return [a[i] * s for i in range(3)]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def dot(a, b):
+    return sum(a[i] * b[i] for i in range(3))
+
+
+def norm(a):
+    return math.sqrt(dot(a, a))
+
+
+def unit(a):
+    return mul(a, 1.0 / norm(a))
+
+
+def matmul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+
+
+def identity():
+    return [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+
+
+def m_translate(t):
+    m = identity()
+    for i in range(3):
+        m[i][3] = t[i]
+    return m
+
+
+def m_scale(s):
+    if not isinstance(s, (list, tuple)):
+        s = [s, s, s]
+    m = identity()
+    for i in range(3):
+        m[i][i] = s[i]
+    return m
+
+
+def m_rotate(axis, deg):
+    """Right-handed rotation (Rodrigues), as Photon's `rotate = { axis, angle }`."""
+    x, y, z = unit(axis)
+    a = math.radians(deg)
+    c, s = math.cos(a), math.sin(a)
+    t = 1 - c
+    return [
+        [t * x * x + c, t * x * y - s * z, t * x * z + s * y, 0.0],
+        [t * x * y + s * z, t * y * y + c, t * y * z - s * x, 0.0],
+        [t * x * z - s * y, t * y * z + s * x, t * z * z + c, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]
+
+
+def compose(tables):
+    """Photon's transform list: each table is scale, then rotate, then translate; the list is
+    applied first to last. Returns the 4x4 object-to-world matrix."""
+    m = identity()
+    for t in tables:
+        step = identity()
+        if "scale" in t:
+            step = matmul(m_scale(t["scale"]), step)
+        if "rotate" in t:
+            step = matmul(m_rotate(t["rotate"]["axis"], t["rotate"]["angle"]), step)
+        if "translate" in t:
+            step = matmul(m_translate(t["translate"]), step)
+        m = matmul(step, m)
+    return m
+
+
+def xform_point(m, p):
+    return [sum(m[i][k] * p[k] for k in range(3)) + m[i][3] for i in range(3)]
+
+
+# --------------------------------------------------------------------------------------------
+# Formatting
+
+
+def fnum(x):
+    x = float(x)
+    if x == int(x) and abs(x) < 1e15:
+        return f"{x:.1f}"
+    return repr(round(x, 9))
+
+
+def tvec(v):
+    if not isinstance(v, (list, tuple)):
+        return fnum(v)
+    return "[" + ", ".join(fnum(x) for x in v) + "]"
+
+
+def xvec(v):
+    if not isinstance(v, (list, tuple)):
+        v = [v, v, v]
+    return ", ".join(fnum(x) for x in v)
+
+
+def xmatrix(m):
+    return " ".join(fnum(m[i][j]) for i in range(4) for j in range(4))
+
+
+def rgb3(c):
+    return list(c) if isinstance(c, (list, tuple)) else [c, c, c]
+
+
+# --------------------------------------------------------------------------------------------
+# Scene description
+
+
+class Scene:
+    def __init__(self, name, comment):
+        self.name = name
+        self.comment = comment
+        self.camera = None
+        self.materials = {}  # name -> dict
+        self.shapes = []  # (toml lines, xml text)
+        self.lights = []
+        self.spp = 16
+        self.ref_spp = 1024
+        self.assets = {}  # file name -> bytes
+
+    # camera --------------------------------------------------------------------------------
+    def set_camera(self, position, look_at, up=(0.0, 1.0, 0.0), fov=40.0):
+        self.camera = dict(position=list(position), look_at=list(look_at), up=list(up), fov=fov)
+
+    # materials -----------------------------------------------------------------------------
+    def diffuse(self, name, albedo=None, texture=None):
+        self.materials[name] = dict(type="diffuse", albedo=albedo, texture=texture)
+
+    def mirror(self, name, reflectance=1.0):
+        self.materials[name] = dict(type="mirror", reflectance=reflectance)
+
+    def glass(self, name, ior):
+        self.materials[name] = dict(type="glass", ior=ior)
+
+    # shapes --------------------------------------------------------------------------------
+    def _toml_emission(self, emission):
+        if emission is None:
+            return []
+        kind, value = emission
+        return [f"emission = {{ {kind} = {tvec(value)} }}"]
+
+    def _xml_emitter(self, radiance):
+        if radiance is None:
+            return ""
+        return (
+            '    <emitter type="area"><rgb name="radiance" value="%s"/></emitter>\n'
+            '    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>\n' % xvec(radiance)
+        )
+
+    def _xml_bsdf(self, material, radiance):
+        if radiance is not None:
+            return ""
+        return f'    <ref id="{material}"/>\n'
+
+    @staticmethod
+    def _radiance(emission, area, sides=1):
+        if emission is None:
+            return None
+        kind, value = emission
+        if kind == "radiance":
+            return rgb3(value)
+        return [p / (sides * math.pi * area) for p in rgb3(value)]
+
+    def quad(self, v, material=None, emission=None, light=False, two_sided=False):
+        """A parallelogram v0, v1, v2, v3 (counter-clockwise seen from its front).
+        `light=True` writes it as a [[lights]] quad (emission given as power or radiance);
+        `two_sided=True` makes it emit from both faces (Mitsuba: two rectangles back to back)."""
+        v = [list(map(float, p)) for p in v]
+        e1, e3 = sub(v[1], v[0]), sub(v[3], v[0])
+        assert norm(sub(add(v[0], add(e1, e3)), v[2])) < 1e-9 * max(1.0, norm(e1)), "not a parallelogram"
+        assert abs(dot(e1, e3)) < 1e-9 * norm(e1) * norm(e3), "Mitsuba rectangles need right angles"
+        n = unit(cross(e1, e3))
+        c = mul(add(v[0], v[2]), 0.5)
+        a, b = mul(e1, 0.5), mul(e3, 0.5)
+        m = [[a[i], b[i], n[i], c[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+        area = norm(cross(e1, e3))
+        rad = self._radiance(emission, area, 2 if two_sided else 1)
+        verts = "[" + ", ".join(tvec(p) for p in v) + "]"
+        if light:
+            kind, value = emission
+            toml = ["[[lights]]", 'type = "quad"', f"vertices = {verts}", f"{kind} = {tvec(value)}"]
+            if two_sided:
+                toml.append("two_sided = true")
+            if material:
+                toml.append(f'material = "{material}"')
+        else:
+            toml = ["[[shapes]]", 'type = "quad"', f"vertices = {verts}"]
+            if material:
+                toml.append(f'material = "{material}"')
+            toml += self._toml_emission(emission)
+        xml = (
+            '<shape type="rectangle">\n'
+            f'    <transform name="to_world"><matrix value="{xmatrix(m)}"/></transform>\n'
+            + self._xml_bsdf(material, rad)
+            + self._xml_emitter(rad)
+            + "</shape>"
+        )
+        if two_sided:
+            # The back face: the same rectangle with its normal (the matrix's z column) negated.
+            back = [[a[i], b[i], -n[i], c[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+            xml += (
+                '\n<shape type="rectangle">\n'
+                f'    <transform name="to_world"><matrix value="{xmatrix(back)}"/></transform>\n'
+                + self._xml_bsdf(material, rad)
+                + self._xml_emitter(rad)
+                + "</shape>"
+            )
+        (self.lights if light else self.shapes).append((toml, xml))
+
+    def sphere(self, center, radius, material=None, emission=None):
+        area = 4 * math.pi * radius * radius
+        rad = self._radiance(emission, area)
+        toml = ["[[shapes]]", 'type = "sphere"', f"center = {tvec(center)}", f"radius = {fnum(radius)}"]
+        if material:
+            toml.append(f'material = "{material}"')
+        toml += self._toml_emission(emission)
+        xml = (
+            '<shape type="sphere">\n'
+            f'    <point name="center" value="{xvec(center)}"/>\n'
+            f'    <float name="radius" value="{fnum(radius)}"/>\n'
+            + self._xml_bsdf(material, rad)
+            + self._xml_emitter(rad)
+            + "</shape>"
+        )
+        self.shapes.append((toml, xml))
+
+    def disk(self, center, normal, radius, material):
+        n = unit(normal)
+        # Any frame with z = n: the disk is rotationally symmetric.
+        t = [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0]
+        s = unit(cross(t, n))
+        t = cross(n, s)
+        m = [[s[i] * radius, t[i] * radius, n[i] * radius, center[i]] for i in range(3)]
+        m.append([0.0, 0.0, 0.0, 1.0])
+        toml = [
+            "[[shapes]]",
+            'type = "disk"',
+            f"center = {tvec(center)}",
+            f"normal = {tvec(normal)}",
+            f"radius = {fnum(radius)}",
+            f'material = "{material}"',
+        ]
+        xml = (
+            '<shape type="disk">\n'
+            f'    <transform name="to_world"><matrix value="{xmatrix(m)}"/></transform>\n'
+            f'    <ref id="{material}"/>\n'
+            "</shape>"
+        )
+        self.shapes.append((toml, xml))
+
+    def box(self, size, material, rotate_y=0.0, translate=(0.0, 0.0, 0.0)):
+        """A box of `size` centred on the origin, turned about +y, then moved: Photon `box` with
+        a transform, Mitsuba `cube` ([-1, 1]^3) with the same matrix times the half-size."""
+        h = [s / 2 for s in size]
+        tables = [{"rotate": {"axis": [0.0, 1.0, 0.0], "angle": rotate_y}, "translate": list(translate)}]
+        m = matmul(compose(tables), m_scale(h))
+        toml = [
+            "[[shapes]]",
+            'type = "box"',
+            f"min = {tvec([-x for x in h])}",
+            f"max = {tvec(h)}",
+            f'material = "{material}"',
+            "transform = { rotate = { axis = [0.0, 1.0, 0.0], angle = %s }, translate = %s }"
+            % (fnum(rotate_y), tvec(translate)),
+        ]
+        xml = (
+            '<shape type="cube">\n'
+            f'    <transform name="to_world"><matrix value="{xmatrix(m)}"/></transform>\n'
+            f'    <ref id="{material}"/>\n'
+            "</shape>"
+        )
+        self.shapes.append((toml, xml))
+
+    def mesh(self, file, material, tables, flat, xml_file=None, smooth=None):
+        """A mesh file with Photon's transform list `tables`. `flat`: the file has no normals
+        (Mitsuba would otherwise compute smooth ones)."""
+        m = compose(tables)
+        toml = ["[[shapes]]", 'type = "mesh"', f'file = "{file}"', f'material = "{material}"']
+        if smooth is not None:
+            toml.append(f"smooth = {'true' if smooth else 'false'}")
+        toml.append("transform = " + toml_transform(tables))
+        xf = xml_file or file
+        kind = "obj" if xf.endswith(".obj") else "ply"
+        xml = (
+            f'<shape type="{kind}">\n'
+            f'    <string name="filename" value="{xf}"/>\n'
+            + ('    <boolean name="face_normals" value="true"/>\n' if flat else "")
+            + ('    <boolean name="flip_tex_coords" value="false"/>\n' if kind == "obj" else "")
+            + f'    <transform name="to_world"><matrix value="{xmatrix(m)}"/></transform>\n'
+            f'    <ref id="{material}"/>\n'
+            "</shape>"
+        )
+        self.shapes.append((toml, xml))
+
+    def raw(self, toml, xml):
+        self.shapes.append((toml, xml))
+
+    # lights --------------------------------------------------------------------------------
+    def point(self, position, power=None, intensity=None):
+        if power is not None:
+            i = [p / (4 * math.pi) for p in rgb3(power)]
+            line = f"power = {tvec(power)}"
+        else:
+            i = rgb3(intensity)
+            line = f"intensity = {tvec(intensity)}"
+        toml = ["[[lights]]", 'type = "point"', f"position = {tvec(position)}", line]
+        xml = (
+            '<emitter type="point">\n'
+            f'    <point name="position" value="{xvec(position)}"/>\n'
+            f'    <rgb name="intensity" value="{xvec(i)}"/>\n'
+            "</emitter>"
+        )
+        self.lights.append((toml, xml))
+
+    def spot(self, position, look_at, intensity, angle):
+        d = unit(sub(look_at, position))
+        up = [0.0, 1.0, 0.0] if abs(d[1]) < 0.9 else [1.0, 0.0, 0.0]
+        toml = [
+            "[[lights]]",
+            'type = "spot"',
+            f"position = {tvec(position)}",
+            f"look_at = {tvec(look_at)}",
+            f"intensity = {tvec(intensity)}",
+            f"angle = {fnum(angle)}",
+            "falloff = 0.0",
+        ]
+        xml = (
+            '<emitter type="spot">\n'
+            f'    <transform name="to_world"><lookat origin="{xvec(position)}" target="{xvec(look_at)}" up="{xvec(up)}"/></transform>\n'
+            f'    <rgb name="intensity" value="{xvec(intensity)}"/>\n'
+            f'    <float name="cutoff_angle" value="{fnum(angle)}"/>\n'
+            f'    <float name="beam_width" value="{fnum(angle)}"/>\n'
+            "</emitter>"
+        )
+        self.lights.append((toml, xml))
+
+    def directional(self, direction, irradiance):
+        toml = [
+            "[[lights]]",
+            'type = "directional"',
+            f"direction = {tvec(direction)}",
+            f"irradiance = {tvec(irradiance)}",
+        ]
+        xml = (
+            '<emitter type="directional">\n'
+            f'    <vector name="direction" value="{xvec(direction)}"/>\n'
+            f'    <rgb name="irradiance" value="{xvec(irradiance)}"/>\n'
+            "</emitter>"
+        )
+        self.lights.append((toml, xml))
+
+    # output --------------------------------------------------------------------------------
+    def toml(self):
+        c = self.camera
+        out = [f"# {line}".rstrip() for line in self.comment.strip().splitlines()]
+        out += [
+            "# Written by validation/generate_scenes.py (edit there); Mitsuba twin: "
+            f"{self.name}.xml, reference: reference.exr.",
+            f'name = "{self.name}"',
+            "",
+            "[camera]",
+            f"position = {tvec(c['position'])}",
+            f"look_at = {tvec(c['look_at'])}",
+            f"up = {tvec(c['up'])}",
+            f"fov = {fnum(c['fov'])}",
+            f"resolution = [{RES}, {RES}]",
+            "",
+            "[render]",
+            f"spp = {self.spp}",
+            'filter = "box"',
+            "",
+        ]
+        for name, m in self.materials.items():
+            out.append(f"[materials.{name}]")
+            out.append(f'type = "{m["type"]}"')
+            if m["type"] == "diffuse":
+                if m["texture"]:
+                    out.append(f'albedo = {{ texture = "{m["texture"]}" }}')
+                else:
+                    out.append(f"albedo = {tvec(m['albedo'])}")
+            elif m["type"] == "mirror":
+                out.append(f"reflectance = {tvec(m['reflectance'])}")
+            else:
+                out.append(f"ior = {fnum(m['ior'])}")
+            out.append("")
+        for toml, _ in self.shapes + self.lights:
+            out += toml + [""]
+        return "\n".join(out)
+
+    def xml(self):
+        c = self.camera
+        out = ['<?xml version="1.0" encoding="utf-8"?>']
+        out += ["<!--"] + ["  " + line for line in self.comment.strip().splitlines()]
+        out += [
+            f"  Written by validation/generate_scenes.py (edit there); Photon twin: {self.name}.toml.",
+            f"  Reference: python validation/make_references.py {self.name}",
+            "-->",
+            '<scene version="3.0.0">',
+            f'<default name="spp" value="{self.ref_spp}"/>',
+            '<integrator type="path"><integer name="max_depth" value="-1"/></integrator>',
+            '<sensor type="perspective">',
+            f'    <float name="fov" value="{fnum(c["fov"])}"/>',
+            '    <string name="fov_axis" value="y"/>',
+            '    <float name="near_clip" value="0.001"/>',
+            '    <float name="far_clip" value="1e7"/>',
+            f'    <transform name="to_world"><lookat origin="{xvec(c["position"])}" '
+            f'target="{xvec(c["look_at"])}" up="{xvec(c["up"])}"/></transform>',
+            '    <sampler type="multijitter"><integer name="sample_count" value="$spp"/></sampler>',
+            '    <film type="hdrfilm">',
+            f'        <integer name="width" value="{RES}"/>',
+            f'        <integer name="height" value="{RES}"/>',
+            '        <string name="pixel_format" value="rgb"/>',
+            '        <rfilter type="box"/>',
+            "    </film>",
+            "</sensor>",
+        ]
+        for name, m in self.materials.items():
+            if m["type"] == "diffuse":
+                if m["texture"]:
+                    refl = (
+                        '<texture type="bitmap" name="reflectance">'
+                        f'<string name="filename" value="{m["texture"]}"/>'
+                        '<string name="filter_type" value="bilinear"/>'
+                        '<string name="wrap_mode" value="repeat"/>'
+                        # Mitsuba looks v = 0 up in the image's first (top) row; Photon's v
+                        # grows up the image: v -> 1 - v (and OBJ files are read unflipped).
+                        '<transform name="to_uv"><scale x="1" y="-1"/><translate x="0" y="1"/></transform>'
+                        '</texture>'
+                    )
+                else:
+                    refl = f'<rgb name="reflectance" value="{xvec(m["albedo"])}"/>'
+                out.append(f'<bsdf type="twosided" id="{name}"><bsdf type="diffuse">{refl}</bsdf></bsdf>')
+            elif m["type"] == "mirror":
+                out.append(
+                    f'<bsdf type="twosided" id="{name}"><bsdf type="conductor">'
+                    '<string name="material" value="none"/>'
+                    f'<rgb name="specular_reflectance" value="{xvec(m["reflectance"])}"/></bsdf></bsdf>'
+                )
+            else:
+                out.append(
+                    f'<bsdf type="dielectric" id="{name}"><float name="int_ior" value="{fnum(m["ior"])}"/>'
+                    '<float name="ext_ior" value="1.0"/></bsdf>'
+                )
+        for _, xml in self.shapes + self.lights:
+            out.append(xml)
+        out.append("</scene>")
+        return "\n".join(out) + "\n"
+
+    def write(self):
+        d = os.path.join(HERE, self.name)
+        os.makedirs(d, exist_ok=True)
+        with open(os.path.join(d, f"{self.name}.toml"), "w") as f:
+            f.write(self.toml())
+        with open(os.path.join(d, f"{self.name}.xml"), "w") as f:
+            f.write(self.xml())
+        for fname, data in self.assets.items():
+            with open(os.path.join(d, fname), "wb") as f:
+                f.write(data)
+
+
+def toml_transform(tables):
+    parts = []
+    for t in tables:
+        items = []
+        if "scale" in t:
+            items.append(f"scale = {tvec(t['scale'])}")
+        if "rotate" in t:
+            r = t["rotate"]
+            items.append(f"rotate = {{ axis = {tvec(r['axis'])}, angle = {fnum(r['angle'])} }}")
+        if "translate" in t:
+            items.append(f"translate = {tvec(t['translate'])}")
+        parts.append("{ " + ", ".join(items) + " }")
+    return parts[0] if len(parts) == 1 else "[" + ", ".join(parts) + "]"
+
+
+# --------------------------------------------------------------------------------------------
+# Assets
+
+
+def png_rgb8(width, height, pixels):
+    """A PNG file (8-bit RGB, no colour profile: sRGB as both renderers assume) from rows of
+    (r, g, b) tuples, top row first."""
+    raw = b"".join(b"\x00" + bytes(c for px in row for c in px) for row in pixels)
+
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+        + chunk(b"IDAT", zlib.compress(raw, 9))
+        + chunk(b"IEND", b"")
+    )
+
+
+def ply_binary(positions, triangles, normals=None):
+    """Binary little-endian PLY with float positions (and normals) and triangle faces."""
+    props = ["x", "y", "z"] + (["nx", "ny", "nz"] if normals else [])
+    head = "ply\nformat binary_little_endian 1.0\n"
+    head += f"element vertex {len(positions)}\n" + "".join(f"property float {p}\n" for p in props)
+    head += f"element face {len(triangles)}\nproperty list uchar int vertex_indices\nend_header\n"
+    body = bytearray(head.encode())
+    for i, p in enumerate(positions):
+        vals = list(p) + (list(normals[i]) if normals else [])
+        body += struct.pack("<" + "f" * len(vals), *vals)
+    for t in triangles:
+        body += struct.pack("<Biii", 3, *t)
+    return bytes(body)
+
+
+# --------------------------------------------------------------------------------------------
+# Scenes
+
+WHITE = [0.7, 0.7, 0.7]
+RED = [0.63, 0.065, 0.05]
+GREEN = [0.14, 0.45, 0.091]
+
+
+def room(s, x0=-1.0, x1=1.0, y0=0.0, y1=2.0, z0=-1.0, z1=1.0, left="red", right="green", walls="white",
+         ceiling=True, front=False):
+    """Floor, ceiling, back, left and right walls of an axis-aligned room, fronts facing in."""
+    s.quad([[x0, y0, z1], [x1, y0, z1], [x1, y0, z0], [x0, y0, z0]], walls)  # floor, +y
+    if ceiling:
+        s.quad([[x0, y1, z0], [x1, y1, z0], [x1, y1, z1], [x0, y1, z1]], walls)  # ceiling, -y
+    s.quad([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0]], walls)  # back, +z
+    s.quad([[x0, y0, z1], [x0, y0, z0], [x0, y1, z0], [x0, y1, z1]], left)  # left, +x
+    s.quad([[x1, y0, z0], [x1, y0, z1], [x1, y1, z1], [x1, y1, z0]], right)  # right, -x
+    if front:
+        s.quad([[x1, y0, z1], [x0, y0, z1], [x0, y1, z1], [x1, y1, z1]], walls)  # front, -z
+
+
+def room_materials(s):
+    s.diffuse("white", WHITE)
+    s.diffuse("red", RED)
+    s.diffuse("green", GREEN)
+
+
+def std_camera(s):
+    s.set_camera([0.0, 1.0, 3.8], [0.0, 1.0, 0.0], fov=39.3)
+
+
+def low_camera(s, scale=1.0):
+    """Closer and looking slightly down: a ceiling light (within 0.3 of the centre) stays out of
+    the frame, so that its pixels do not carry most of the image's mean."""
+    s.set_camera([0.0, 0.9 * scale, 2.7 * scale], [0.0, 0.55 * scale, 0.0], fov=39.3)
+
+
+def point_light():
+    s = Scene("point-light", """
+Diffuse room (red left wall, green right) lit by one point light given by its power:
+a turned box and a sphere cast hard shadows; everything else is interreflection.""")
+    room_materials(s)
+    s.diffuse("blue", [0.15, 0.25, 0.7])
+    std_camera(s)
+    room(s)
+    s.box([0.5, 0.9, 0.5], "white", rotate_y=20.0, translate=[-0.4, 0.45, -0.3])
+    s.sphere([0.45, 0.35, 0.2], 0.35, "blue")
+    s.point([0.1, 1.7, 0.2], power=[40.0, 38.0, 34.0])
+    s.ref_spp = 14336
+    return s
+
+
+def spot_light():
+    s = Scene("spot-light", """
+A spot light with a hard edge (falloff 0) aimed down into the room's far right corner: the cone
+cuts across the floor, the back and right walls and a sphere; the rest of the room is lit only
+by interreflection. Photon's soft edge (smoothstep in cos theta) has no Mitsuba counterpart
+(Mitsuba's is linear in angle), so the edge is hard in both.""")
+    room_materials(s)
+    s.diffuse("yellow", [0.7, 0.6, 0.2])
+    std_camera(s)
+    room(s)
+    s.sphere([0.25, 0.3, -0.35], 0.3, "yellow")
+    s.spot([-0.5, 1.9, 0.6], [0.35, 0.0, -0.45], [14.0, 13.0, 11.0], 28.0)
+    s.ref_spp = 12288
+    return s
+
+
+def directional():
+    s = Scene("directional", """
+The sun (a directional light) on a floor with a back and a left wall, open toward the light
+(right, front and top): a box and a sphere cast shadows on the floor and the walls.""")
+    s.diffuse("floor", [0.6, 0.6, 0.55])
+    s.diffuse("wall", [0.7, 0.65, 0.6])
+    s.diffuse("box", [0.2, 0.35, 0.6])
+    s.diffuse("ball", [0.7, 0.3, 0.2])
+    s.set_camera([2.2, 1.8, 3.4], [0.0, 0.4, -0.2], fov=45.0)
+    x0, x1, z0, z1 = -1.2, 1.8, -1.2, 1.8
+    s.quad([[x0, 0, z1], [x1, 0, z1], [x1, 0, z0], [x0, 0, z0]], "floor")
+    s.quad([[x0, 0, z0], [x1, 0, z0], [x1, 1.5, z0], [x0, 1.5, z0]], "wall")
+    s.quad([[x0, 0, z1], [x0, 0, z0], [x0, 1.5, z0], [x0, 1.5, z1]], "wall")
+    s.box([0.5, 0.8, 0.5], "box", rotate_y=-25.0, translate=[-0.3, 0.4, -0.4])
+    s.sphere([0.6, 0.3, 0.5], 0.3, "ball")
+    s.directional([-0.8, -1.0, -0.45], [2.0, 1.9, 1.7])
+    s.ref_spp = 2048
+    return s
+
+
+def grazing_area():
+    s = Scene("grazing-area", """
+A ceiling light (0.5 x 0.5) 1 mm below the ceiling, flush against the left wall and the open
+front edge of the room: the left wall sees it at grazing angles, and a patch tilted 30 degrees
+from vertical hangs 5 cm beside its footprint (its top edge 5 cm under the ceiling), facing the
+light and the camera, lit at grazing incidence. The camera looks slightly down so that the
+light itself is just out of the frame (its pixels would dominate the image mean).""")
+    room_materials(s)
+    s.set_camera([0.0, 1.0, 3.8], [0.0, 0.8, 0.0], fov=39.3)
+    room(s)
+    y = 2.0 - 1e-3
+    s.quad([[-1.0, y, 0.5], [-0.5, y, 0.5], [-0.5, y, 1.0], [-1.0, y, 1.0]], emission=("radiance", [20.0, 19.0, 17.0]), light=True)
+    t = math.radians(30.0)
+    top = [0.0, 1.95, 0.45]
+    down = [0.0, -math.cos(t) * 0.4, -math.sin(t) * 0.4]
+    s.quad([add(top, [-0.95, 0, 0]), add(top, [-0.55, 0, 0]), add(add(top, down), [-0.55, 0, 0]),
+            add(add(top, down), [-0.95, 0, 0])], "white")
+    s.sphere([-0.45, 0.3, 0.1], 0.3, "white")
+    s.box([0.4, 0.6, 0.4], "white", rotate_y=15.0, translate=[0.4, 0.3, -0.3])
+    s.ref_spp = 16384
+    return s
+
+
+def curved_ceiling():
+    s = Scene("curved-ceiling", """
+Curved objects under a ceiling area light in a box (open at the front): two spheres and Photon's procedural
+plant pot (`type = "pot"`, subdivisions 0: smooth-shaded body and NURBS leaves, analytic soil
+disk). Mitsuba reads the same pot from pot.ply (written by `photon model pot --subdivisions 0`,
+triangulated as Photon does, soil removed) plus a disk for the soil. The camera looks slightly
+down, keeping the light out of the frame.""")
+    room_materials(s)
+    s.diffuse("clay", [0.62, 0.33, 0.22])
+    s.diffuse("leaf", [0.16, 0.38, 0.12])
+    s.diffuse("soil", [0.2, 0.13, 0.08])
+    s.diffuse("blue", [0.15, 0.25, 0.7])
+    low_camera(s)
+    room(s, front=False)
+    y = 2.0 - 1e-3
+    s.quad([[-0.3, y, -0.3], [0.3, y, -0.3], [0.3, y, 0.3], [-0.3, y, 0.3]], emission=("power", 14.0), light=True)
+    s.sphere([-0.55, 0.3, 0.25], 0.3, "white")
+    s.sphere([0.6, 0.2, 0.45], 0.2, "blue")
+    tables = [
+        {"translate": [4.0, -0.1, -0.012]},
+        {"rotate": {"axis": [1.0, 0.0, 0.0], "angle": -90.0}},
+        {"scale": 0.5, "translate": [0.15, 0.0, -0.35]},
+    ]
+    toml = [
+        "[[shapes]]",
+        'type = "pot"',
+        "subdivisions = 0",
+        "seed = 0",
+        'material = "clay"',
+        'soil_material = "soil"',
+        'leaf_material = "leaf"',
+        "transform = " + toml_transform(tables),
+    ]
+    m = compose(tables)
+    soil_c = xform_point(m, [-4.0, 0.1, 0.7453])
+    soil_n = [m[i][2] for i in range(3)]
+    dm = [[m[i][0] * 0.64, m[i][1] * 0.64, m[i][2] * 0.64, soil_c[i]] for i in range(3)] + [[0, 0, 0, 1.0]]
+    xml = (
+        '<shape type="ply">\n'
+        '    <string name="filename" value="pot.ply"/>\n'
+        f'    <transform name="to_world"><matrix value="{xmatrix(m)}"/></transform>\n'
+        '    <ref id="clay"/>\n'
+        "</shape>\n"
+        '<shape type="ply">\n'
+        '    <string name="filename" value="leaves.ply"/>\n'
+        f'    <transform name="to_world"><matrix value="{xmatrix(m)}"/></transform>\n'
+        '    <ref id="leaf"/>\n'
+        "</shape>\n"
+        '<shape type="disk">\n'
+        f'    <!-- the soil: centre (-4, 0.1, 0.7453), radius 0.64, normal +z in pot coordinates -->\n'
+        f'    <transform name="to_world"><matrix value="{xmatrix(dm)}"/></transform>\n'
+        '    <ref id="soil"/>\n'
+        "</shape>"
+    )
+    assert norm(soil_n) > 0
+    s.raw(toml, xml)
+    pot_assets(s)
+    s.ref_spp = 4096
+    return s
+
+
+def pot_assets(s):
+    """pot.ply and leaves.ply from `photon model pot --subdivisions 0 -o pot-export.ply`
+    (ASCII, polygons, with normals). Needs PHOTON (the binary) unless the files exist."""
+    d = os.path.join(HERE, s.name)
+    if os.path.exists(os.path.join(d, "pot.ply")) and os.path.exists(os.path.join(d, "leaves.ply")):
+        return
+    import subprocess
+    import tempfile
+
+    photon = os.environ.get("PHOTON", "photon")
+    with tempfile.TemporaryDirectory() as tmp:
+        src = os.path.join(tmp, "pot.ply")
+        subprocess.run([photon, "model", "pot", "--subdivisions", "0", "--seed", "0", "-o", src], check=True)
+        with open(src) as f:
+            lines = f.read().splitlines()
+    end = lines.index("end_header")
+    nv = int(next(l for l in lines if l.startswith("element vertex")).split()[2])
+    nf = int(next(l for l in lines if l.startswith("element face")).split()[2])
+    verts = [list(map(float, l.split())) for l in lines[end + 1:end + 1 + nv]]
+    faces = [list(map(int, l.split()))[1:] for l in lines[end + 1 + nv:end + 1 + nv + nf]]
+    # Parts in order pot, soil, leaves; the soil is the one 32-gon at height 0.7453.
+    soil = [i for i, f in enumerate(faces) if len(f) == 32]
+    assert len(soil) == 1, soil
+    k = soil[0]
+    parts = {"pot.ply": faces[:k], "leaves.ply": faces[k + 1:]}
+    for fname, fs in parts.items():
+        used = sorted({v for f in fs for v in f})
+        remap = {v: i for i, v in enumerate(used)}
+        tris = [[remap[f[0]], remap[f[j]], remap[f[j + 1]]] for f in fs for j in range(1, len(f) - 1)]
+        pos = [verts[v][:3] for v in used]
+        nrm = [verts[v][3:6] for v in used]
+        s.assets[fname] = ply_binary(pos, tris, nrm)
+
+
+def glass_caustics():
+    s = Scene("glass-caustics", """
+Caustics: a glass sphere (ior 1.5) and a water sphere (ior 1.33) on a diffuse floor, a mirror
+panel on the right wall, lit by a small spherical area light (radius 0.15, given by its power)
+above them. The camera stands in the room's open front looking down, with the light above the
+frame (its pixels would otherwise carry a large part of the image's mean). The path-traced
+reference converges slowly in the caustics: see README.md for its noise.""")
+    room_materials(s)
+    s.glass("glass", 1.5)
+    s.glass("water", 1.33)
+    s.mirror("mirror", 0.9)
+    s.set_camera([0.0, 1.3, 1.6], [0.0, 0.35, -0.5], fov=62.0)
+    room(s)
+    s.quad([[0.99, 0.05, -0.9], [0.99, 0.05, 0.3], [0.99, 0.85, 0.3], [0.99, 0.85, -0.9]], "mirror")
+    s.sphere([-0.42, 0.35, -0.35], 0.35, "glass")
+    s.sphere([0.42, 0.3, -0.05], 0.3, "water")
+    s.sphere([0.0, 1.8, -0.3], 0.15, emission=("power", [30.0, 29.0, 27.0]))
+    s.ref_spp = 32768
+    return s
+
+
+def indirect_only():
+    s = Scene("indirect-only", """
+Indirect light only: an area light 1.3 above the floor faces the ceiling, hidden from the camera
+and from everything below it by a white baffle 1 cm under it (a cove light): the box and the
+sphere on the floor, the floor and the lower walls are lit only by light bounced off the
+ceiling and the upper walls.""")
+    room_materials(s)
+    s.diffuse("orange", [0.75, 0.45, 0.15])
+    std_camera(s)
+    room(s)
+    s.quad([[-0.6, 1.3, 0.3], [0.6, 1.3, 0.3], [0.6, 1.3, -0.7], [-0.6, 1.3, -0.7]], emission=("radiance", 5.0), light=True)
+    s.quad([[-0.65, 1.29, -0.75], [0.65, 1.29, -0.75], [0.65, 1.29, 0.35], [-0.65, 1.29, 0.35]], "white")
+    s.box([0.45, 0.7, 0.45], "orange", rotate_y=-20.0, translate=[-0.4, 0.35, -0.3])
+    s.sphere([0.4, 0.3, 0.3], 0.3, "white")
+    s.ref_spp = 24576
+    return s
+
+
+def textured_mesh():
+    s = Scene("textured-mesh", """
+Textures and meshes: a floor read from floor.obj with texture coordinates running 0..3 (the
+8x8 sRGB PNG repeats, bilinear filtering between texels), a textured quad on the back wall
+(the quad's own (u, v)), a textured sphere (its (phi / 2 pi, theta / pi) about +z, the pole
+toward the camera), and a flat-shaded torus read from torus.ply (256 triangles, no normals),
+under a ceiling area light kept out of the frame.""")
+    room_materials(s)
+    s.diffuse("tex", texture="tiles8.png")
+    s.diffuse("torus", [0.8, 0.75, 0.3])
+    low_camera(s)
+    room(s, front=False)
+    # Replace the floor and the back wall: drop the room's first and third quads.
+    del s.shapes[2]
+    del s.shapes[0]
+    s.quad([[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 2.0, -1.0], [-1.0, 2.0, -1.0]], "tex")
+    s.mesh("floor.obj", "tex", [{"translate": [0.0, 0.0, 0.0]}], flat=True)
+    s.sphere([-0.6, 0.3, 0.45], 0.3, "tex")
+    s.mesh("torus.ply", "torus", [{"scale": 0.5, "rotate": {"axis": [1.0, 0.0, 0.0], "angle": 60.0},
+                                   "translate": [0.1, 0.45, 0.0]}], flat=True)
+    y = 2.0 - 1e-3
+    s.quad([[-0.3, y, -0.3], [0.3, y, -0.3], [0.3, y, 0.3], [-0.3, y, 0.3]], emission=("radiance", 24.0), light=True)
+    # 8x8 texture, asymmetric so flips and swaps show: a red L in the top-left, a blue bar at the
+    # bottom, a green texel top-right, grey/white checks elsewhere.
+    px = []
+    for j in range(8):
+        row = []
+        for i in range(8):
+            c = (200, 200, 200) if (i + j) % 2 == 0 else (90, 90, 90)
+            if (i == 0 and j < 4) or (j == 3 and i < 3):
+                c = (220, 30, 20)
+            if j == 7 and 2 <= i <= 6:
+                c = (20, 40, 230)
+            if j == 0 and i == 7:
+                c = (30, 210, 40)
+            row.append(c)
+        px.append(row)
+    s.assets["tiles8.png"] = png_rgb8(8, 8, px)
+    s.assets["floor.obj"] = (
+        b"# Floor 2 x 2 at y = 0, texture coordinates 0..3 (the texture repeats 3 times).\n"
+        b"v -1 0 1\nv 1 0 1\nv 1 0 -1\nv -1 0 -1\n"
+        b"vt 0 0\nvt 3 0\nvt 3 3\nvt 0 3\n"
+        b"f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n"
+    )
+    # Torus: major radius 1, minor 0.35, 16 x 8 quads = 256 triangles, axis +z.
+    pos, tris = [], []
+    nu, nv = 16, 8
+    for i in range(nu):
+        a = 2 * math.pi * i / nu
+        for j in range(nv):
+            b = 2 * math.pi * j / nv
+            r = 1.0 + 0.35 * math.cos(b)
+            pos.append([r * math.cos(a), r * math.sin(a), 0.35 * math.sin(b)])
+    for i in range(nu):
+        for j in range(nv):
+            p00 = i * nv + j
+            p10 = ((i + 1) % nu) * nv + j
+            p11 = ((i + 1) % nu) * nv + (j + 1) % nv
+            p01 = i * nv + (j + 1) % nv
+            tris += [[p00, p10, p11], [p00, p11, p01]]
+    s.assets["torus.ply"] = ply_binary(pos, tris)
+    s.ref_spp = 3072
+    return s
+
+
+def millimetres():
+    s = Scene("millimetres", """
+A scene built in millimetres: a 400 mm box room (open at the front) with a 100 mm square
+ceiling light 1 mm below the ceiling (out of the frame), two spheres (60 and 45 mm) and a
+100 x 160 x 100 mm box.""")
+    room_materials(s)
+    s.diffuse("blue", [0.15, 0.25, 0.7])
+    low_camera(s, scale=200.0)
+    room(s, -200.0, 200.0, 0.0, 400.0, -200.0, 200.0)
+    y = 399.0
+    s.quad([[-50.0, y, -50.0], [50.0, y, -50.0], [50.0, y, 50.0], [-50.0, y, 50.0]], emission=("radiance", 30.0), light=True)
+    s.sphere([-90.0, 60.0, 20.0], 60.0, "white")
+    s.sphere([100.0, 45.0, 90.0], 45.0, "blue")
+    s.box([100.0, 160.0, 100.0], "white", rotate_y=30.0, translate=[70.0, 80.0, -90.0])
+    s.ref_spp = 4096
+    return s
+
+
+def light_strip():
+    s = Scene("light-strip", """
+A Cornell-like box (2 x 2 x 2, red and green side walls) lit by a thin light strip 1.2 x 0.04
+(0.6 x 0.02 of the room's width) 3 mm below the ceiling, given by its power and emitting from
+both faces, as Blender's glTF export writes emissive meshes (doubleSided): the ceiling beside the
+strip is lit hundreds of times more than the room, the kind of export where final gathering
+showed speckles. Two boxes stand on the floor. The camera
+looks slightly down so that the strip itself is just out of the frame: its pixels, a fraction
+of a pixel tall and 80 times brighter than the walls, would otherwise carry half of the image's
+mean and make the mean ratio converge slowly.""")
+    room_materials(s)
+    s.set_camera([0.0, 0.95, 2.9], [0.0, 0.55, 0.0], fov=39.3)
+    room(s)
+    y = 2.0 - 3e-3
+    s.quad([[-0.6, y, -0.02], [0.6, y, -0.02], [0.6, y, 0.02], [-0.6, y, 0.02]], emission=("power", 24.0),
+           light=True, two_sided=True)
+    s.box([0.55, 0.55, 0.55], "white", rotate_y=-17.0, translate=[0.35, 0.275, 0.3])
+    s.box([0.55, 1.2, 0.55], "white", rotate_y=18.0, translate=[-0.35, 0.6, -0.35])
+    s.ref_spp = 98304
+    return s
+
+
+SCENES = {
+    f.__name__.replace("_", "-"): f
+    for f in [point_light, spot_light, directional, grazing_area, curved_ceiling, glass_caustics,
+              indirect_only, textured_mesh, millimetres, light_strip]
+}
+
+
+def main(names):
+    for name in names or SCENES:
+        s = SCENES[name]()
+        s.write()
+        print(f"wrote validation/{name}/")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,141 @@
+#!/usr/bin/env python3
+"""Render the Mitsuba 3 references of the validation scenes.
+
+    pip install mitsuba numpy
+    python validation/make_references.py              # every scene
+    python validation/make_references.py NAME ...     # some scenes
+
+For each scene directory validation/NAME/ this reads NAME.xml, renders it with Mitsuba's `path`
+integrator (max_depth = -1, box pixel filter) at the sample count given by the
+`<default name="spp" .../>` line of the XML, and writes NAME/reference.exr (float32 RGB).
+
+The samples are rendered in passes of at most --pass-spp samples per pixel, each with its own
+seed; the passes are split into two independent halves (seeds 0, 2, 4, ... and 1, 3, 5, ...),
+and the reference is their mean. The relMSE of one half against the other,
+mean((a - b)^2 / (((a + b) / 2)^2 + 0.01)) over pixels and channels, is printed as the noise
+estimate: the reference's own relMSE against the converged image is about a quarter of it.
+
+The references in the repository were made with Mitsuba 3.9.1 (drjit 1.5.0), variant
+`llvm_ad_rgb` (LLVM 19 on 2 x86-64 cores); `scalar_rgb` gives the same image, slower. For the
+LLVM variants, Dr.Jit must find libLLVM: on Debian `apt-get install libllvm19`, then
+`export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1` (this script tries
+that path itself when the variable is unset).
+
+Options: --variant (default llvm_ad_rgb, falling back to scalar_rgb), --spp N (override the
+scene's count, e.g. for a quick look), --output FILE (only with one scene), --pass-spp N.
+"""
+
+import argparse
+import glob
+import os
+import re
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+MITSUBA_VERSION_USED = "3.9.1"
+DEFAULT_VARIANT = "llvm_ad_rgb"
+
+
+def scene_names():
+    return sorted(
+        os.path.basename(d)
+        for d in glob.glob(os.path.join(HERE, "*"))
+        if os.path.isfile(os.path.join(d, os.path.basename(d) + ".xml"))
+    )
+
+
+def scene_spp(xml_path):
+    with open(xml_path) as f:
+        m = re.search(r'<default\s+name="spp"\s+value="(\d+)"', f.read())
+    if not m:
+        raise SystemExit(f"{xml_path}: no <default name=\"spp\" value=\"...\"/>")
+    return int(m.group(1))
+
+
+def set_variant(mi, wanted):
+    if wanted.startswith("llvm") and "DRJIT_LIBLLVM_PATH" not in os.environ:
+        for cand in sorted(glob.glob("/usr/lib/x86_64-linux-gnu/libLLVM.so.*")) + sorted(
+            glob.glob("/usr/lib/llvm-*/lib/libLLVM*.so*")
+        ):
+            os.environ["DRJIT_LIBLLVM_PATH"] = cand
+            break
+    try:
+        mi.set_variant(wanted)
+        return wanted
+    except Exception as e:  # no LLVM: the scalar variant gives the same image, slower
+        print(f"variant {wanted} unavailable ({e}); using scalar_rgb", file=sys.stderr)
+        mi.set_variant("scalar_rgb")
+        return "scalar_rgb"
+
+
+def half_rel_mse(a, b):
+    import numpy as np
+
+    m = 0.5 * (a + b)
+    return float(np.mean((a - b) ** 2 / (m * m + 0.01)))
+
+
+def render(mi, name, spp, pass_spp, output):
+    import numpy as np
+
+    xml = os.path.join(HERE, name, f"{name}.xml")
+    scene = mi.load_file(xml, spp=spp)
+    passes = max(2, -(-spp // pass_spp))
+    passes += passes % 2  # an even number: two equal halves
+    per_pass = spp // passes
+    if per_pass * passes != spp:
+        raise SystemExit(f"{name}: {spp} spp do not split into {passes} equal passes")
+    halves = [None, None]
+    start = time.time()
+    for k in range(passes):
+        img = np.array(mi.render(scene, spp=per_pass, seed=k), dtype=np.float64)[:, :, :3]
+        h = k % 2
+        halves[h] = img if halves[h] is None else halves[h] + img
+    secs = time.time() - start
+    a, b = halves[0] / (passes // 2), halves[1] / (passes // 2)
+    ref = (0.5 * (a + b)).astype(np.float32)
+    noise = half_rel_mse(a, b)
+    out = output or os.path.join(HERE, name, "reference.exr")
+    mi.Bitmap(ref, pixel_format=mi.Bitmap.PixelFormat.RGB).write(out)
+    mean = ref.reshape(-1, 3).mean(axis=0)
+    print(
+        f"{name}: {spp} spp ({passes} passes) in {secs:.0f} s; half-vs-half relMSE {noise:.2e}; "
+        f"mean RGB {mean[0]:.4f} {mean[1]:.4f} {mean[2]:.4f} -> {os.path.relpath(out)}",
+        flush=True,
+    )
+    return secs, noise
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("names", nargs="*", help="scenes (default: all)")
+    p.add_argument("--variant", default=DEFAULT_VARIANT)
+    p.add_argument("--spp", type=int, help="override the scene's sample count")
+    p.add_argument("--pass-spp", type=int, default=256, help="samples per pixel per pass")
+    p.add_argument("--output", help="output file (one scene only)")
+    a = p.parse_args()
+    names = a.names or scene_names()
+    unknown = [n for n in names if n not in scene_names()]
+    if unknown:
+        raise SystemExit(f"unknown scene(s): {', '.join(unknown)}; known: {', '.join(scene_names())}")
+    if a.output and len(names) != 1:
+        raise SystemExit("--output needs exactly one scene")
+
+    import mitsuba as mi
+
+    variant = set_variant(mi, a.variant)
+    mi.set_log_level(mi.LogLevel.Error)  # the samplers' "sample count rounded" warnings
+    if mi.__version__ != MITSUBA_VERSION_USED:
+        print(f"note: Mitsuba {mi.__version__}; the references were made with {MITSUBA_VERSION_USED}", file=sys.stderr)
+    print(f"Mitsuba {mi.__version__}, variant {variant}", flush=True)
+    total = 0.0
+    for name in names:
+        spp = a.spp or scene_spp(os.path.join(HERE, name, f"{name}.xml"))
+        secs, _ = render(mi, name, spp, a.pass_spp, a.output)
+        total += secs
+    print(f"total {total:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
