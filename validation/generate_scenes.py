@@ -242,23 +242,19 @@ class Scene:
             if material:
                 toml.append(f'material = "{material}"')
             toml += self._toml_emission(emission)
-        xml = (
-            '<shape type="rectangle">\n'
-            f'    <transform name="to_world"><matrix value="{xmatrix(m)}"/></transform>\n'
-            + self._xml_bsdf(material, rad)
-            + self._xml_emitter(rad)
-            + "</shape>"
-        )
-        if two_sided:
-            # The back face: the same rectangle with its normal (the matrix's z column) negated.
-            back = [[a[i], b[i], -n[i], c[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
-            xml += (
-                '\n<shape type="rectangle">\n'
-                f'    <transform name="to_world"><matrix value="{xmatrix(back)}"/></transform>\n'
+        def rectangle(matrix):
+            return (
+                '<shape type="rectangle">\n'
+                f'    <transform name="to_world"><matrix value="{xmatrix(matrix)}"/></transform>\n'
                 + self._xml_bsdf(material, rad)
                 + self._xml_emitter(rad)
                 + "</shape>"
             )
+
+        xml = rectangle(m)
+        if two_sided:
+            # The back face: the same rectangle with its normal (the matrix's z column) negated.
+            xml += "\n" + rectangle([[a[i], b[i], -n[i], c[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]])
         (self.lights if light else self.shapes).append((toml, xml))
 
     def sphere(self, center, radius, material=None, emission=None):
@@ -908,7 +904,7 @@ mean and make the mean ratio converge slowly.""")
            light=True, two_sided=True)
     s.box([0.55, 0.55, 0.55], "white", rotate_y=-17.0, translate=[0.35, 0.275, 0.3])
     s.box([0.55, 1.2, 0.55], "white", rotate_y=18.0, translate=[-0.35, 0.6, -0.35])
-    s.ref_spp = 98304
+    s.ref_spp = 32768
     return s
 
 

@@ -1,0 +1,63 @@
+//! The validation suite (validation/README.md): every scene, rendered by every integrator at
+//! the quick budget, against its converged Mitsuba 3 reference. Per-channel means within 1%
+//! (path) or 2% (the photon-mapping integrators), and relMSE within a bound per scene (about
+//! twice what was measured when the suite was made, so that noise does not fail it and a
+//! regression does).
+
+use photon::validate::{Budget, Method, find_cases, load_case, run};
+use std::path::Path;
+
+/// relMSE bounds per scene for (path, photon, sppm, ppm) at `Budget::QUICK`.
+const BOUNDS: &[(&str, [f64; 4])] = &[
+    ("curved-ceiling", [0.0004, 0.005, 0.015, 0.015]),
+    ("directional", [0.0002, 0.0035, 0.009, 0.01]),
+    ("glass-caustics", [0.025, 0.045, 0.065, 0.06]),
+    ("grazing-area", [0.0012, 0.014, 0.022, 0.022]),
+    ("indirect-only", [0.0025, 0.024, 0.04, 0.04]),
+    ("light-strip", [0.013, 0.011, 0.033, 0.035]),
+    ("millimetres", [0.0005, 0.0055, 0.027, 0.026]),
+    ("point-light", [0.002, 0.022, 0.037, 0.035]),
+    ("spot-light", [0.0015, 0.017, 0.025, 0.021]),
+    ("textured-mesh", [0.0004, 0.007, 0.018, 0.02]),
+];
+
+#[test]
+fn every_scene_matches_its_reference_with_every_integrator() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("validation");
+    let cases = find_cases(&dir).expect("reads validation/");
+    let names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(
+        names,
+        BOUNDS.iter().map(|b| b.0).collect::<Vec<_>>(),
+        "every scene has bounds here, and every bound a scene"
+    );
+    let budget = Budget::QUICK;
+    let mut failures = Vec::new();
+    for (case, (_, bounds)) in cases.iter().zip(BOUNDS) {
+        let loaded = load_case(case, budget.size).expect("loads");
+        for (method, bound) in Method::ALL.into_iter().zip(bounds) {
+            let o = run(case, &loaded, method, &budget).expect("renders");
+            let c = &o.comparison;
+            let tolerance = if method == Method::Path { 0.01 } else { 0.02 };
+            let ratios = [c.red.mean_ratio, c.green.mean_ratio, c.blue.mean_ratio];
+            eprintln!(
+                "{:<16} {:<6} relMSE {:.5} (bound {bound}) mean ratios {:.4} {:.4} {:.4}",
+                case.name,
+                method.name(),
+                c.overall.rel_mse,
+                ratios[0],
+                ratios[1],
+                ratios[2]
+            );
+            if ratios.iter().any(|r| (r - 1.0).abs() > tolerance) || c.overall.rel_mse > *bound {
+                failures.push(format!(
+                    "{} {}: mean ratios {ratios:?} (±{tolerance}), relMSE {} (bound {bound})",
+                    case.name,
+                    method.name(),
+                    c.overall.rel_mse
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
