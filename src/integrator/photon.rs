@@ -264,7 +264,7 @@ impl PhotonIntegrator {
             .cache
             .as_ref()
             .filter(|_| self.settings.aim_at_hot_regions)
-            .and_then(|c| c.hot_sampler(sp.hit.p, sp.frame.n, self.settings.cache_radius));
+            .and_then(|c| c.hot_sampler(sp.hit.p, sp.frame.n));
         let n_guided = if guide.is_some() { n / 2 } else { 0 };
         let n_cosine = n - n_guided;
         let (c_count, g_count) = (n_cosine as f32, n_guided as f32);

@@ -147,13 +147,14 @@ impl IrradianceCache {
     }
 
     /// Directions toward the hot regions from `p` (normal `n`), if any is above the surface
-    /// and would bring a good share of the irradiance there.
-    pub fn hot_sampler(&self, p: Vec3, n: Vec3, max_radius: f32) -> Option<HotSampler> {
+    /// and would bring a good share of the scene's mean irradiance there. (Comparing with the
+    /// irradiance at `p` itself would cost a lookup per shading point: +15% render time on
+    /// `cornell`, whose only hot region is its caustic.)
+    pub fn hot_sampler(&self, p: Vec3, n: Vec3) -> Option<HotSampler> {
         if self.hot.is_empty() {
             return None;
         }
-        let here = self.lookup(p, n, max_radius).map_or(0.0, luminance);
-        HotSampler::new(&self.hot, p, n, here)
+        HotSampler::new(&self.hot, p, n, self.hot_threshold / HOT_FACTOR)
     }
 
     fn nearest(&self, p: Vec3, n: Vec3, max_radius: f32) -> Option<&CachePoint> {

@@ -31,8 +31,8 @@ pub struct HotCluster {
 }
 
 /// Rays aim at hot regions only where they are estimated to bring at least this share of the
-/// irradiance the cache holds at the point; elsewhere (most of a scene whose only hot region
-/// is a small caustic) halving the cosine rays would only add noise.
+/// scene's mean irradiance; elsewhere (most of a scene whose only hot region is a small
+/// caustic) halving the cosine rays would only add noise.
 pub const MIN_SHARE: f32 = 0.25;
 
 /// Group hot sites (position) of `flux_per_site` each by splitting at the median of the longest
@@ -113,9 +113,18 @@ pub struct HotSampler {
 impl HotSampler {
     /// Cones toward the clusters above the surface at `p` (normal `n`), chosen in proportion
     /// to the irradiance each would give if it reflected all its light toward `p` (Φ/π ·
-    /// cos / d²). `None` if those add up to less than `MIN_SHARE` of `irradiance` (the cache's
-    /// at `p`), or no cluster is above the surface.
+    /// cos / d²). `None` if those add up to less than `MIN_SHARE` of `irradiance` (the
+    /// scene's mean), or no cluster is above the surface.
     pub fn new(clusters: &[HotCluster], p: Vec3, n: Vec3, irradiance: f32) -> Option<Self> {
+        // A cheap bound first (every cluster facing `p`): most points of a scene whose hot
+        // regions are small and far need nothing more.
+        let bound: f32 = clusters
+            .iter()
+            .map(|c| c.flux * FRAC_1_PI / (c.center - p).length_squared().max(c.radius * c.radius))
+            .sum();
+        if !(bound >= MIN_SHARE * irradiance) {
+            return None;
+        }
         let mut cones = [Cone::default(); MAX_CLUSTERS];
         let mut count = 0;
         let mut total = 0.0;
