@@ -122,7 +122,7 @@ impl HotSampler {
             .iter()
             .map(|c| c.flux * FRAC_1_PI / (c.center - p).length_squared().max(c.radius * c.radius))
             .sum();
-        if !(bound >= MIN_SHARE * irradiance) {
+        if bound.is_nan() || bound < MIN_SHARE * irradiance {
             return None;
         }
         let mut cones = [Cone::default(); MAX_CLUSTERS];
