@@ -18,6 +18,7 @@ use crate::material::{Material, TransportMode};
 use crate::math::{Frame, Ray, Rgb, offset_origin};
 use crate::photon::IrradianceCache;
 use crate::photon::PhotonMaps;
+use crate::photon::cache::estimate_apart_from_sites;
 use crate::photon::estimate::{self, GatherParams, Kernel};
 use crate::sampling::{Rng, cosine_hemisphere};
 use crate::scene::Scene;
@@ -349,15 +350,16 @@ impl PhotonIntegrator {
     /// it made the room under a two-sided light strip 5% too bright at 100k photons.
     fn lookup(&self, hit: &crate::scene::Hit, n: crate::math::Vec3) -> Option<Rgb> {
         let cache = self.cache.as_ref()?;
-        match cache.lookup(hit.p, n, self.settings.cache_radius) {
-            Some(e) if !cache.is_hot(e) => Some(e),
-            _ => {
-                let g = &self.settings.global;
-                Some(
-                    estimate::irradiance(&self.maps.global, hit.p, n, g)
-                        + estimate::irradiance(&self.maps.caustic, hit.p, n, g),
-                )
-            }
+        match cache.lookup_site(hit.p, n, self.settings.cache_radius) {
+            Some((e, false)) => Some(e),
+            _ => Some(estimate_apart_from_sites(
+                &self.maps.global,
+                &[&self.maps.caustic],
+                cache.stride(),
+                hit.p,
+                n,
+                &self.settings.global,
+            )),
         }
     }
 }

@@ -114,6 +114,8 @@ pub(super) struct Filter {
     /// Leave out the irradiance cache's sites for this stride (0: none): the cache sits at
     /// those photons, and its estimates must not use them (see [`super::IrradianceCache`]).
     pub(super) skip_sites: usize,
+    /// Keep only the irradiance cache's sites for this stride (0: all).
+    pub(super) only_sites: usize,
 }
 
 impl Filter {
@@ -121,6 +123,7 @@ impl Filter {
     fn skips(&self, ph: &super::Photon) -> bool {
         (self.skip_direct && ph.is_direct())
             || (self.skip_sites > 1 && super::cache::is_cache_site(ph, self.skip_sites))
+            || (self.only_sites > 1 && !super::cache::is_cache_site(ph, self.only_sites))
     }
 }
 
