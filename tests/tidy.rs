@@ -36,19 +36,18 @@ fn every_library_file_is_on_the_architecture_map() {
             .expect("file")
             .to_string_lossy()
             .into_owned();
-        // The module's row: its name, then the files it holds (a nested file by its name or
-        // its folder's).
+        // The module's row: its name, then the files it holds.
         let row = table
             .iter()
             .find(|l| l.starts_with(&format!("| `{module}` |")));
-        let folder = rel
+        // The file's own name, or its path from the module's folder (`toml_read/scene.rs`).
+        let nested = rel
             .parent()
             .and_then(|p| p.file_name())
-            .map(|p| format!("{}/", p.to_string_lossy()));
+            .map(|p| format!("{}/{name}", p.to_string_lossy()));
         let named = row.is_some_and(|r| {
             r.contains(&format!("`{name}`"))
-                || r.contains(&format!("{module}/{name}"))
-                || folder.as_ref().is_some_and(|d| r.contains(d.as_str()))
+                || nested.as_ref().is_some_and(|d| r.contains(d.as_str()))
                 || r.contains(&format!("`{}`", rel.to_string_lossy()))
         });
         if !named {

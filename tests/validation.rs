@@ -49,7 +49,10 @@ fn every_scene_matches_its_reference_with_every_integrator() {
                 ratios[1],
                 ratios[2]
             );
-            if ratios.iter().any(|r| (r - 1.0).abs() > tolerance) || c.overall.rel_mse > *bound {
+            // Written so that a NaN fails too.
+            let means_ok = ratios.iter().all(|r| (r - 1.0).abs() <= tolerance);
+            let error_ok = c.overall.rel_mse.is_finite() && c.overall.rel_mse <= *bound;
+            if !means_ok || !error_ok {
                 failures.push(format!(
                     "{} {}: mean ratios {ratios:?} (±{tolerance}), relMSE {} (bound {bound})",
                     case.name,

@@ -78,13 +78,22 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
     let text = table(&outcomes);
     println!("{text}");
     if let Some(path) = &a.report {
+        let mut command = format!("photon validate {}", a.dir.display());
+        if a.quick {
+            command += " --quick";
+        }
+        if !a.scenes.is_empty() {
+            command += &format!(" --scenes {}", a.scenes.join(","));
+        }
+        if !a.integrators.is_empty() {
+            let names: Vec<&str> = a.integrators.iter().map(|m| m.name()).collect();
+            command += &format!(" --integrators {}", names.join(","));
+        }
         let report = format!(
-            "# Validation report\n\nWritten by `photon validate {}{}--report {}` on this machine \
+            "# Validation report\n\nWritten by `{command} --report {}` on this machine \
              ({} threads). Budget: {:?}.\n\nReferences: Mitsuba 3 (see README.md). Mean ratios \
              are per channel; relMSE = mean (a − b)² / (b² + 0.01); the worst region is the \
              cell of a 4×4 grid whose mean luminance is furthest from the reference's.\n\n{text}",
-            a.dir.display(),
-            if a.quick { " --quick " } else { " " },
             path.display(),
             pool.current_num_threads(),
             budget

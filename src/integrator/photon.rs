@@ -278,6 +278,9 @@ impl PhotonIntegrator {
             // f·cos / (n_c p_c + n_g p_g) with f = ρ/π and p_c = cos/π.
             let p_guided = guide.as_ref().map_or(0.0, |g| g.pdf(wi));
             let weight = cos / (c_count * cos + g_count * PI * p_guided);
+            if !(weight > 0.0 && weight.is_finite()) {
+                return;
+            }
             let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
             sum += weight * self.gathered_radiance(scene, &ray, rng, stats);
         };

@@ -2,7 +2,7 @@
 //! Photon Map Global Illumination", JGT 1999), and the hot regions among them that gather rays
 //! aim at (see [`super::hot`]).
 
-use super::estimate::{Filter, GatherParams, disc_distance2, irradiance, irradiance_filtered};
+use super::estimate::{Filter, GatherParams, disc_distance2, irradiance_filtered};
 use super::hot::{HOT_FACTOR, HotCluster, HotSampler, clusters};
 use super::kdtree::{KdIndex, KdPoint};
 use super::map::PhotonMap;
@@ -101,8 +101,12 @@ impl IrradianceCache {
             .filter(|ph| is_cache_site(ph, stride))
             .map(|ph| {
                 let (p, n) = (ph.position(), ph.normal());
-                let coarse =
-                    irradiance_filtered(sites, p, n, &coarse_g, only_sites) * stride as f32;
+                // The same hash splits every map, so caustics count too.
+                let coarse = std::iter::once(sites)
+                    .chain(others.iter().copied())
+                    .map(|m| irradiance_filtered(m, p, n, &coarse_g, only_sites))
+                    .sum::<Rgb>()
+                    * stride as f32;
                 CachePoint {
                     position: p,
                     normal: encode_octahedral(n),
@@ -118,10 +122,10 @@ impl IrradianceCache {
         for c in &mut points {
             c.hot = c.coarse > threshold;
         }
-        // Sites are as dense as the photons, so each stands for an equal share of the flux.
-        let flux =
-            luminance(sites.total_power() + others.iter().map(|m| m.total_power()).sum::<Rgb>());
-        let flux_per_site = flux / points.len().max(1) as f32;
+        // Sites are as dense as the sites' map's photons, so each stands for an equal share of
+        // its flux (caustic regions, lit by the other maps, are underrated: they are aimed at
+        // less often, which costs variance, not bias).
+        let flux_per_site = luminance(sites.total_power()) / points.len().max(1) as f32;
         let hot_sites = points
             .iter()
             .filter(|c| c.hot)
@@ -195,9 +199,10 @@ impl IrradianceCache {
     }
 }
 
-/// Irradiance at `p` from the photons of `sites` that are not cache sites (scaled by
-/// stride/(stride − 1)) and all photons of `others`: what every site holds, and what a gather
-/// hit on a hot site is estimated with, so that both are independent of the sites' positions.
+/// Irradiance at `p` from the photons of `sites` and `others` that are not in the cache sites'
+/// hash class, scaled by stride/(stride − 1): what every site holds, and what a gather hit on
+/// a hot site is estimated with, so that both are independent of the sites' positions and of
+/// the coarse estimates that decide hotness (which use the sites' class of every map).
 pub fn estimate_apart_from_sites(
     sites: &PhotonMap,
     others: &[&PhotonMap],
@@ -206,13 +211,17 @@ pub fn estimate_apart_from_sites(
     n: Vec3,
     g: &GatherParams,
 ) -> Rgb {
+    let stride = stride.max(2);
     let thinned = Filter {
         skip_sites: stride,
         ..Filter::default()
     };
     let rest = stride as f32 / (stride - 1) as f32;
-    irradiance_filtered(sites, p, n, g, thinned) * rest
-        + others.iter().map(|m| irradiance(m, p, n, g)).sum::<Rgb>()
+    std::iter::once(sites)
+        .chain(others.iter().copied())
+        .map(|m| irradiance_filtered(m, p, n, g, thinned))
+        .sum::<Rgb>()
+        * rest
 }
 
 /// The scene's mean irradiance by the coarse estimates. Sites are about as dense as the

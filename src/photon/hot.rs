@@ -19,6 +19,11 @@ pub const MAX_CLUSTERS: usize = 32;
 /// Clusters are split until their bounding sphere's radius is below this fraction of the
 /// scene's diagonal (or the cluster budget is spent).
 const CLUSTER_RADIUS: f32 = 0.01;
+/// No cluster is smaller than this fraction of the scene's diagonal (one site, or sites at one
+/// point, would make a cone narrower than f32 directions resolve).
+const MIN_RADIUS: f32 = 1e-3;
+/// Cones are at least this wide (1 − cos of the half-angle; about 1.4 mrad).
+const MIN_ONE_MINUS_COS: f32 = 1e-6;
 
 /// A group of hot sites: where to aim, and roughly how much light falls on it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,7 +82,7 @@ pub fn clusters(mut sites: Vec<Vec3>, flux_per_site: f32, scene_diagonal: f32) -
                 .iter()
                 .map(|s| (*s - center).length())
                 .fold(0.0f32, f32::max)
-                .max(1e-6 * scene_diagonal);
+                .max(MIN_RADIUS * scene_diagonal);
             HotCluster {
                 center,
                 radius,
@@ -141,9 +146,11 @@ impl HotSampler {
             let one_minus_cos = if sin2 >= 1.0 {
                 2.0
             } else {
-                sin2 / (1.0 + (1.0 - sin2).sqrt())
+                (sin2 / (1.0 + (1.0 - sin2).sqrt())).max(MIN_ONE_MINUS_COS)
             };
-            let cos_p = axis.dot(n).max(0.05);
+            // The largest cosine at `p` toward any point of the cluster's sphere: clusters in
+            // the surface's own plane bring (almost) nothing.
+            let cos_p = ((d.dot(n) + c.radius) / dist).min(1.0);
             let w = c.flux * FRAC_1_PI * cos_p / dist2.max(c.radius * c.radius);
             if !(w > 0.0 && w.is_finite()) {
                 continue;
@@ -191,8 +198,9 @@ impl HotSampler {
     pub fn pdf(&self, w: Vec3) -> f32 {
         self.cones[..self.count]
             .iter()
-            // A little slack: a sample on a tiny cone's rim must count as inside.
-            .filter(|c| 1.0 - w.dot(c.frame_axis) <= c.one_minus_cos + 2e-7)
+            // |w − axis|² = 2(1 − cos), precise for small angles; a relative slack keeps a
+            // sample on the rim inside.
+            .filter(|c| (w - c.frame_axis).length_squared() <= 2.0 * c.one_minus_cos * (1.0 + 1e-4))
             .map(|c| c.probability / (2.0 * PI * c.one_minus_cos))
             .sum()
     }
@@ -256,6 +264,49 @@ mod tests {
             (mean_inverse / cones - 1.0).abs() < 0.01,
             "E[1/pdf] {mean_inverse} vs solid angle {cones}"
         );
+    }
+
+    #[test]
+    fn tiny_cones_sample_inside_their_density() {
+        // One site far away: the cone is as narrow as allowed.
+        let c = [HotCluster {
+            center: Vec3::new(0.3, 40.0, -0.2),
+            radius: 1e-4,
+            flux: 1.0,
+        }];
+        let s = HotSampler::new(&c, Vec3::ZERO, Vec3::Y, 0.0).expect("above");
+        let cone = s.cones[0];
+        assert!(cone.one_minus_cos >= MIN_ONE_MINUS_COS);
+        let inside = 1.0 / (2.0 * PI * cone.one_minus_cos);
+        let mut rng = Rng::keyed(5, &[]);
+        for _ in 0..100_000 {
+            let w = s.sample(rng.next_f32(), rng.next_2d());
+            let p = s.pdf(w);
+            assert!(
+                (p / inside - 1.0).abs() < 1e-3,
+                "rim sample {w}: pdf {p} vs {inside}"
+            );
+        }
+        // Just outside the cone: nothing.
+        let axis = cone.frame_axis;
+        let off = (axis + Frame::from_normal(axis).s * 3.0 * (2.0 * cone.one_minus_cos).sqrt())
+            .normalize();
+        assert_eq!(s.pdf(off), 0.0);
+    }
+
+    #[test]
+    fn clusters_in_the_surface_plane_are_not_aimed_at() {
+        let cluster = |center| {
+            [HotCluster {
+                center,
+                radius: 0.01,
+                flux: 1.0,
+            }]
+        };
+        // Overhead at distance 1: Φ/π. In the surface's plane at distance 1: only the sliver
+        // of its sphere above the plane counts, a hundredth of that.
+        assert!(HotSampler::new(&cluster(Vec3::Y), Vec3::ZERO, Vec3::Y, 0.1).is_some());
+        assert!(HotSampler::new(&cluster(Vec3::X), Vec3::ZERO, Vec3::Y, 0.1).is_none());
     }
 
     #[test]
