@@ -563,3 +563,32 @@ fn a_light_strip_flush_with_the_ceiling_makes_no_speckles() {
         "{mean_before} vs {mean_after}"
     );
 }
+
+#[test]
+fn hot_region_gathering_is_identical_on_one_and_two_threads() {
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("validation/light-strip/light-strip.toml");
+    let text = std::fs::read_to_string(&file).expect("reads");
+    let desc = toml_read::read_str(&text, &file, file.parent().expect("dir")).expect("reads");
+    let scene = build(&desc).expect("builds");
+    let images: Vec<_> = [1, 2]
+        .iter()
+        .map(|&t| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .expect("pool");
+            pool.install(|| {
+                let integrator = photon_integrator(&scene, 50_000, 50_000, 32);
+                let Integrator::Photon(p) = &integrator else {
+                    unreachable!()
+                };
+                assert!(p.hot_clusters() > 0, "the strip makes hot regions");
+                render(&scene, &integrator, &settings(24, 24, 2), &|_, _| {})
+                    .expect("renders")
+                    .image
+            })
+        })
+        .collect();
+    assert_eq!(images[0], images[1]);
+}

@@ -117,6 +117,11 @@ impl PhotonIntegrator {
         }
     }
 
+    /// Clusters of hot cache sites that final gathering aims at (0 without final gathering).
+    pub fn hot_clusters(&self) -> usize {
+        self.cache.as_ref().map_or(0, |c| c.hot_clusters().len())
+    }
+
     pub fn cache_points(&self) -> usize {
         self.cache.as_ref().map_or(0, |c| c.len())
     }
