@@ -266,23 +266,23 @@ impl PhotonIntegrator {
         stats: &mut RayStats,
     ) -> Rgb {
         let n = self.settings.gather_rays;
-        let guide = self
+        let hot = self
             .cache
             .as_ref()
             .filter(|_| self.settings.aim_at_hot_regions)
             .and_then(|c| c.hot_sampler(sp.hit.p, sp.frame.n));
-        let n_guided = if guide.is_some() { n / 2 } else { 0 };
-        let n_cosine = n - n_guided;
-        let (c_count, g_count) = (n_cosine as f32, n_guided as f32);
+        let n_hot = if hot.is_some() { n / 2 } else { 0 };
+        let n_cosine = n - n_hot;
+        let (c_count, h_count) = (n_cosine as f32, n_hot as f32);
         let mut sum = Rgb::ZERO;
         let mut trace = |wi: crate::math::Vec3, rng: &mut Rng, stats: &mut RayStats| {
             let cos = wi.dot(sp.frame.n);
             if cos <= 0.0 {
                 return;
             }
-            // f·cos / (n_c p_c + n_g p_g) with f = ρ/π and p_c = cos/π.
-            let p_guided = guide.as_ref().map_or(0.0, |g| g.pdf(wi));
-            let weight = cos / (c_count * cos + g_count * PI * p_guided);
+            // f·cos / (n_c p_c + n_h p_h) with f = ρ/π and p_c = cos/π.
+            let p_hot = hot.as_ref().map_or(0.0, |h| h.pdf(wi));
+            let weight = cos / (c_count * cos + h_count * PI * p_hot);
             if !(weight > 0.0 && weight.is_finite()) {
                 return;
             }
@@ -301,10 +301,10 @@ impl PhotonIntegrator {
             }
             trace(sp.frame.to_world(cosine_hemisphere(u)), rng, stats);
         }
-        if let Some(g) = &guide {
-            for k in 0..n_guided {
-                let u_cell = (k as f32 + rng.next_f32()) / g_count;
-                let wi = g.sample(u_cell, rng.next_2d());
+        if let Some(h) = &hot {
+            for k in 0..n_hot {
+                let u_cell = (k as f32 + rng.next_f32()) / h_count;
+                let wi = h.sample(u_cell, rng.next_2d());
                 trace(wi, rng, stats);
             }
         }
