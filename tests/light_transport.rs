@@ -136,42 +136,18 @@ fn grazing_patch_beside_a_quad_light_gets_its_analytic_radiance() {
         light_samples: 16,
         ..DirectConfig::default()
     };
+    let mean = |integrator: &Integrator, spp| {
+        render(&scene, integrator, &settings(8, 8, spp), &|_, _| {})
+            .expect("renders")
+            .image
+            .mean()
+    };
     let mut got = vec![
-        (
-            "direct",
-            render(
-                &scene,
-                &Integrator::Direct(direct),
-                &settings(8, 8, 64),
-                &|_, _| {},
-            )
-            .expect("renders")
-            .image
-            .mean(),
-        ),
-        (
-            "path",
-            render(
-                &scene,
-                &Integrator::Path(PathConfig::default()),
-                &settings(8, 8, 1024),
-                &|_, _| {},
-            )
-            .expect("renders")
-            .image
-            .mean(),
-        ),
+        ("direct", mean(&Integrator::Direct(direct), 64)),
+        ("path", mean(&Integrator::Path(PathConfig::default()), 1024)),
         (
             "photon",
-            render(
-                &scene,
-                &photon_integrator(&scene, 20_000, 20_000, 32),
-                &settings(8, 8, 64),
-                &|_, _| {},
-            )
-            .expect("renders")
-            .image
-            .mean(),
+            mean(&photon_integrator(&scene, 20_000, 20_000, 32), 64),
         ),
     ];
     for method in [Method::Sppm, Method::Ppm] {
@@ -517,19 +493,24 @@ fn speckles(img: &photon::film::Image, factor: f32) -> usize {
     count
 }
 
+/// The validation suite's light-strip scene, and its file's text.
+fn light_strip() -> (Scene, String) {
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("validation/light-strip/light-strip.toml");
+    let text = std::fs::read_to_string(&file).expect("reads");
+    let desc = toml_read::read_str(&text, &file, file.parent().expect("dir")).expect("reads");
+    (build(&desc).expect("builds"), text)
+}
+
 #[test]
 fn a_light_strip_flush_with_the_ceiling_makes_no_speckles() {
     // The two-sided strip lights the ceiling beside it hundreds of times more than the room;
     // cosine gather rays that found it made white speckles over the whole indirect layer.
-    let file =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("validation/light-strip/light-strip.toml");
-    let text = std::fs::read_to_string(&file).expect("reads");
+    let (scene, text) = light_strip();
     assert!(
         text.contains("two_sided = true"),
         "the strip emits from both faces"
     );
-    let desc = toml_read::read_str(&text, &file, file.parent().expect("dir")).expect("reads");
-    let scene = build(&desc).expect("builds");
     let config = PhotonConfig {
         photons: 200_000,
         global_photons: Some(200_000),
@@ -566,29 +547,16 @@ fn a_light_strip_flush_with_the_ceiling_makes_no_speckles() {
 
 #[test]
 fn hot_region_gathering_is_identical_on_one_and_two_threads() {
-    let file =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("validation/light-strip/light-strip.toml");
-    let text = std::fs::read_to_string(&file).expect("reads");
-    let desc = toml_read::read_str(&text, &file, file.parent().expect("dir")).expect("reads");
-    let scene = build(&desc).expect("builds");
-    let images: Vec<_> = [1, 2]
-        .iter()
-        .map(|&t| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(t)
-                .build()
-                .expect("pool");
-            pool.install(|| {
-                let integrator = photon_integrator(&scene, 50_000, 50_000, 32);
-                let Integrator::Photon(p) = &integrator else {
-                    unreachable!()
-                };
-                assert!(p.hot_clusters() > 0, "the strip makes hot regions");
-                render(&scene, &integrator, &settings(24, 24, 2), &|_, _| {})
-                    .expect("renders")
-                    .image
-            })
-        })
-        .collect();
+    let (scene, _) = light_strip();
+    let images = common::on_one_and_two_threads(|| {
+        let integrator = photon_integrator(&scene, 50_000, 50_000, 32);
+        let Integrator::Photon(p) = &integrator else {
+            unreachable!()
+        };
+        assert!(p.hot_clusters() > 0, "the strip makes hot regions");
+        render(&scene, &integrator, &settings(24, 24, 2), &|_, _| {})
+            .expect("renders")
+            .image
+    });
     assert_eq!(images[0], images[1]);
 }

@@ -233,19 +233,10 @@ fn cornell_default_photon_render_matches_the_reference() {
 #[test]
 fn photon_renders_are_identical_on_one_and_two_threads() {
     let scene = builtin::load("cornell").expect("builds");
-    let images: Vec<Image> = [1, 2]
-        .iter()
-        .map(|&t| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(t)
-                .build()
-                .expect("pool");
-            pool.install(|| {
-                let integrator = photon_integrator(&scene, 20_000, 50_000, 2);
-                run(&scene, &integrator, 24, 24, 2).image
-            })
-        })
-        .collect();
+    let images = common::on_one_and_two_threads(|| {
+        let integrator = photon_integrator(&scene, 20_000, 50_000, 2);
+        run(&scene, &integrator, 24, 24, 2).image
+    });
     assert_eq!(images[0], images[1]);
 }
 

@@ -102,11 +102,7 @@ impl IrradianceCache {
             .map(|ph| {
                 let (p, n) = (ph.position(), ph.normal());
                 // The same hash splits every map, so caustics count too.
-                let coarse = std::iter::once(sites)
-                    .chain(others.iter().copied())
-                    .map(|m| irradiance_filtered(m, p, n, &coarse_g, only_sites))
-                    .sum::<Rgb>()
-                    * stride as f32;
+                let coarse = over_maps(sites, others, p, n, &coarse_g, only_sites) * stride as f32;
                 CachePoint {
                     position: p,
                     normal: encode_octahedral(n),
@@ -217,11 +213,22 @@ pub fn estimate_apart_from_sites(
         ..Filter::default()
     };
     let rest = stride as f32 / (stride - 1) as f32;
+    over_maps(sites, others, p, n, g, thinned) * rest
+}
+
+/// The irradiance estimate of `filter`'s photons, summed over `sites` and `others`.
+fn over_maps(
+    sites: &PhotonMap,
+    others: &[&PhotonMap],
+    p: Vec3,
+    n: Vec3,
+    g: &GatherParams,
+    filter: Filter,
+) -> Rgb {
     std::iter::once(sites)
         .chain(others.iter().copied())
-        .map(|m| irradiance_filtered(m, p, n, g, thinned))
-        .sum::<Rgb>()
-        * rest
+        .map(|m| irradiance_filtered(m, p, n, g, filter))
+        .sum()
 }
 
 /// The scene's mean irradiance by the coarse estimates. Sites are about as dense as the

@@ -107,3 +107,14 @@ pub fn glb(doc: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
     out.extend(bin);
     out
 }
+
+/// `f`'s result on a pool of one thread and on a pool of two: determinism tests compare them.
+pub fn on_one_and_two_threads<T: Send>(f: impl Fn() -> T + Sync) -> [T; 2] {
+    [1, 2].map(|t| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .expect("pool")
+            .install(&f)
+    })
+}
