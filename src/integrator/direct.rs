@@ -2,8 +2,8 @@
 //! with radiometry: emission seen directly, next-event estimation of every light with several
 //! samples per area light, and mirror and glass followed recursively. No indirect diffuse light.
 
-use super::{RayStats, Sample, ShadingPoint, light_sample_contribution};
-use crate::material::{Material, TransportMode};
+use super::{RayStats, Sample, ShadingPoint, own_light_pdf_for_hit, power_heuristic, shadowed};
+use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -86,29 +86,37 @@ fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk
     let wo = -ray.dir;
     let mut l = scene.emitted(&hit, wo);
     let sp = ShadingPoint::new(scene, &hit, wo);
-    match sp.material {
-        Material::Lambertian(_) => {
-            if walk.first_diffuse.is_none_or(|f| at.weight > f.0) {
-                walk.first_diffuse = Some((at.weight, sp.material.albedo(sp.wo_local), sp.frame.n));
-            }
-            l += direct_light(c, scene, &sp, walk.rng, walk.stats);
+    let lobes = sp.material.lobes();
+    if lobes.has_density() {
+        if sp.material.has(Part::Rough) && walk.first_diffuse.is_none_or(|f| at.weight > f.0) {
+            walk.first_diffuse = Some((at.weight, sp.material.albedo(sp.wo_local), sp.frame.n));
         }
-        Material::Mirror(_) | Material::Dielectric(_) if at.depth < c.max_depth => {
-            l += specular(c, scene, &sp, at, walk);
-        }
-        _ => {}
+        l += direct_light(c, scene, &sp, None, walk.rng, walk.stats);
+    }
+    if lobes.is_specular() && at.depth < c.max_depth {
+        l += specular(c, scene, &sp, at, walk);
     }
     l
 }
 
-/// Light arriving directly from every light, averaged over `light_samples` samples for area lights.
+/// Light arriving directly from every light, averaged over `light_samples` samples for area
+/// lights, through every lobe with a density.
+///
+/// `continued` is the probability with which the caller's walk also samples the material's
+/// smooth part here (and so may hit the same light): the smooth lobes' share of each light
+/// sample is then weighted by the power heuristic against that sampling (Veach & Guibas 1995,
+/// with the sample counts: n light samples, one BSDF sample), and the walk weights its emission
+/// hits by [`emission_weight`]. `None`: the walk never counts emission it finds through lobes
+/// with a density.
 pub(crate) fn direct_light(
     c: &DirectConfig,
     scene: &Scene,
     sp: &ShadingPoint,
+    continued: Option<f32>,
     rng: &mut Rng,
     stats: &mut RayStats,
 ) -> Rgb {
+    let mis = continued.filter(|_| sp.material.has(Part::Smooth));
     let mut sum = Rgb::ZERO;
     for light in scene.lights() {
         let n = if light.is_delta() {
@@ -122,15 +130,39 @@ pub(crate) fn direct_light(
             let Some(ls) = light.sample_li(sp.hit.p, u_pick, rng.next_2d()) else {
                 continue;
             };
-            if let Some((value, _)) = light_sample_contribution(scene, sp, &ls, stats) {
-                acc += value;
-            }
+            let wi = sp.frame.to_local(ls.wi);
+            let m = &sp.material;
+            let f = match mis {
+                Some(p_continue) if !ls.is_delta => {
+                    let p_bsdf = p_continue * m.pdf_part(sp.wo_local, wi, Part::Smooth);
+                    let smooth =
+                        m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Smooth);
+                    m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Rough)
+                        + smooth * power_heuristic(n as f32 * ls.pdf, p_bsdf)
+                }
+                _ => m.eval(sp.wo_local, wi, TransportMode::Radiance),
+            };
+            acc += shadowed(scene, sp, &ls, f, stats);
         }
         sum += acc / n as f32;
     }
     sum
 }
 
+/// The MIS weight of emission found by sampling the smooth part of the previous vertex (with
+/// density `p_bsdf`, selection included), against [`direct_light`]'s light samples there.
+pub(crate) fn emission_weight(
+    c: &DirectConfig,
+    scene: &Scene,
+    from: Vec3,
+    hit: &crate::scene::Hit,
+    p_bsdf: f32,
+) -> f32 {
+    let p_light = own_light_pdf_for_hit(scene, from, hit);
+    power_heuristic(p_bsdf, c.light_samples.max(1) as f32 * p_light)
+}
+
+/// Follow the delta lobes: every branch up to `split_depth`, one chosen by the BSDF beyond.
 fn specular(
     c: &DirectConfig,
     scene: &Scene,
@@ -151,22 +183,26 @@ fn specular(
         };
         weight * trace(c, scene, &next, branch, walk)
     };
-    match sp.material {
-        Material::Dielectric(d) if at.depth < c.split_depth => {
-            let (reflected, refracted) = d.branches(sp.wo_local, TransportMode::Radiance);
-            let mut l = follow(reflected.wi, reflected.weight, walk);
-            if let Some(t) = refracted {
-                l += follow(t.wi, t.weight, walk);
-            }
-            l
+    if at.depth < c.split_depth {
+        let mut l = Rgb::ZERO;
+        for b in sp
+            .material
+            .specular_branches(sp.wo_local, TransportMode::Radiance)
+            .into_iter()
+            .flatten()
+        {
+            l += follow(b.wi, b.weight, walk);
         }
-        m => {
-            let u_lobe = walk.rng.next_f32();
-            let u = walk.rng.next_2d();
-            match m.sample(sp.wo_local, u_lobe, u, TransportMode::Radiance) {
-                Some(s) => follow(s.wi, s.weight, walk),
-                None => Rgb::ZERO,
-            }
-        }
+        return l;
+    }
+    let u_lobe = walk.rng.next_f32();
+    let u = walk.rng.next_2d();
+    match sp
+        .material
+        .sample(sp.wo_local, u_lobe, u, TransportMode::Radiance)
+    {
+        // Lobes with a density are direct_light's.
+        Some(s) if s.is_specular() => follow(s.wi, s.weight, walk),
+        _ => Rgb::ZERO,
     }
 }

@@ -15,7 +15,7 @@ pub use photon::{PhotonIntegrator, PhotonSettings};
 pub use visible::{CameraPath, VisiblePoint, trace_camera_path};
 
 use crate::light::{Light, LightSample};
-use crate::material::Material;
+use crate::material::{Material, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Scene};
@@ -115,16 +115,32 @@ pub(crate) fn light_sample_contribution(
     stats: &mut RayStats,
 ) -> Option<(Rgb, f32)> {
     let wi_local = sp.frame.to_local(ls.wi);
-    let f = sp.material.eval(sp.wo_local, wi_local);
+    let f = sp
+        .material
+        .eval(sp.wo_local, wi_local, TransportMode::Radiance);
     if f == Rgb::ZERO {
         return None;
     }
+    let value = shadowed(scene, sp, ls, f, stats);
+    (value != Rgb::ZERO).then(|| (value, sp.material.pdf(sp.wo_local, wi_local)))
+}
+
+/// f·L·|cos|/pdf of one light sample for the BSDF value `f`, or zero if the light is hidden.
+pub(crate) fn shadowed(
+    scene: &Scene,
+    sp: &ShadingPoint,
+    ls: &LightSample,
+    f: Rgb,
+    stats: &mut RayStats,
+) -> Rgb {
+    if f == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
     stats.shadow += 1;
     if !unoccluded(scene, sp.hit, ls) {
-        return None;
+        return Rgb::ZERO;
     }
-    let value = f * ls.radiance * (wi_local.z.abs() / ls.pdf);
-    Some((value, sp.material.pdf(sp.wo_local, wi_local)))
+    f * ls.radiance * (sp.frame.n.dot(ls.wi).abs() / ls.pdf)
 }
 
 /// Whether the segment from the shading point to the light sample is free. Both ends are moved
@@ -155,8 +171,14 @@ pub(crate) fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
 /// sampling) would have produced the direction from `from` to the emitter `hit`.
 pub(crate) fn light_pdf_for_hit(scene: &Scene, from: Vec3, hit: &Hit) -> f32 {
     let i = hit.light as usize;
-    match &scene.lights()[i] {
-        Light::Area(l) => scene.light_choice_pmf(i) * l.pdf_li(from, hit.p, hit.ng),
-        Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
+    scene.light_choice_pmf(i) * own_light_pdf_for_hit(scene, from, hit)
+}
+
+/// Solid-angle density with which the emitter `hit`'s own sampling produces the direction
+/// from `from` (no choice between lights: [`direct::direct_light`] samples every light).
+pub(crate) fn own_light_pdf_for_hit(scene: &Scene, from: Vec3, hit: &Hit) -> f32 {
+    match &scene.lights()[hit.light as usize] {
+        Light::Area(l) => l.pdf_li(from, hit.p, hit.ng),
+        Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => 0.0,
     }
 }

@@ -90,7 +90,7 @@ pub(super) fn radiance(
         }
         let wi = sp.frame.to_world(s.wi);
         prev_pdf = s.pdf;
-        prev_specular = s.specular;
+        prev_specular = s.is_specular();
         prev_point = hit.p;
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
     }

@@ -1,28 +1,34 @@
 //! Jensen's two-pass photon mapping ("Global Illumination Using Photon Maps", 1996; "Realistic
 //! Image Synthesis Using Photon Mapping", 2001, ch. 9).
 //!
-//! Camera paths follow mirrors and glass to the first diffuse surface x. There the radiance is
-//! split by light path so that none is counted twice:
-//! - **direct** (L D E, and emission seen directly or through mirrors and glass): next-event
-//!   estimation of every light, as in the `direct` integrator;
-//! - **caustic** (L S+ D E): the caustic map's radiance estimate at x;
-//! - **indirect** (L … D S* D E, at least one diffuse bounce before x): final gathering —
-//!   cosine-distributed rays from x whose diffuse hits y (reached directly or through mirrors
-//!   and glass) return ρ(y)/π · E(y), the irradiance precomputed from both maps at photon
-//!   positions; a gather ray that meets a light adds nothing (that light is direct or caustic).
-//!   With `gather_rays = 0` the global map is read at x instead, leaving out its direct photons.
+//! Every material is split into a rough part (diffuse lobes, glossy lobes of α ≥
+//! [`crate::material::NEAR_SPECULAR_ALPHA`]) and a smooth part (delta lobes, near-specular
+//! glossy lobes, transmission); see [`Part`]. Camera paths follow the smooth parts; at every
+//! point x with a rough part the radiance it reflects through that part is split by light path
+//! so that none is counted twice:
+//! - **direct** (L x, and emission met along the smooth parts): next-event estimation of every
+//!   light through every lobe with a density, weighted by MIS against the smooth part's
+//!   sampling for the glossy lobes the path also follows;
+//! - **caustic** (L S+ x, S a smooth-part bounce): the caustic map's radiance estimate at x,
+//!   the rough part evaluated per photon;
+//! - **indirect** (L … R S* x, R a rough-part bounce): final gathering — rays sampled from the
+//!   rough part at x whose rough hits y (reached directly or along smooth parts) return the
+//!   radiance y reflects: ρ(y)/π · E(y) from the irradiance precomputed at photon positions on
+//!   diffuse surfaces, a radiance estimate over both maps on glossy ones; a gather ray that
+//!   meets a light adds nothing (that light is direct or caustic). With `gather_rays = 0` the
+//!   global map is read at x instead, leaving out its direct photons.
 
-use super::direct::{DirectConfig, direct_light};
+use super::direct::{DirectConfig, direct_light, emission_weight};
 use super::{RayStats, Sample, ShadingPoint};
-use crate::material::{Material, TransportMode};
-use crate::math::{Frame, Ray, Rgb, offset_origin};
+use crate::material::{Lobes, Part, TransportMode};
+use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
 use crate::photon::IrradianceCache;
 use crate::photon::PhotonMaps;
 use crate::photon::cache::estimate_apart_from_sites;
 use crate::photon::estimate::{self, GatherParams, Kernel};
-use crate::sampling::{Rng, cosine_hemisphere};
+use crate::sampling::Rng;
 use crate::scene::Scene;
-use std::f32::consts::{FRAC_1_PI, PI};
+use std::f32::consts::FRAC_1_PI;
 use std::sync::Arc;
 
 /// Precomputed irradiance points are capped: beyond this, more points only cost build time
@@ -32,6 +38,16 @@ const MAX_CACHE_POINTS: usize = 1_000_000;
 
 /// Glass seen from the camera is split into both branches up to this many bounces.
 const SPLIT_DEPTH: u32 = 3;
+
+/// Where a camera path is: its depth along smooth lobes, whether it is still the camera ray's
+/// own line (for the AOVs), and how it arrived (the previous point and the density of the
+/// glossy sample that left it; `None` after the camera or a delta lobe) for weighting emission.
+#[derive(Clone, Copy)]
+struct Vertex {
+    depth: u32,
+    first: bool,
+    arrival: Option<(Vec3, f32)>,
+}
 
 /// Render-time parameters of the photon integrator.
 #[derive(Clone, Debug, PartialEq)]
@@ -142,7 +158,12 @@ impl PhotonIntegrator {
         stats: &mut RayStats,
     ) -> Sample {
         stats.camera += 1;
-        let mut s = self.trace(scene, ray, 0, rng, stats, true);
+        let start = Vertex {
+            depth: 0,
+            first: true,
+            arrival: None,
+        };
+        let mut s = self.trace(scene, ray, start, rng, stats);
         s.indirect *= self.settings.indirect_scale;
         s.beauty = s.direct + s.caustic + s.indirect;
         s
@@ -152,99 +173,122 @@ impl PhotonIntegrator {
         &self,
         scene: &Scene,
         ray: &Ray,
-        depth: u32,
+        at: Vertex,
         rng: &mut Rng,
         stats: &mut RayStats,
-        first: bool,
     ) -> Sample {
         let mut out = Sample::default();
         let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
             return out;
         };
         let wo = -ray.dir;
+        let dc = self.direct_config();
         out.direct = scene.emitted(&hit, wo);
-        let sp = ShadingPoint::new(scene, &hit, wo);
-        if sp.material.is_specular() {
-            if depth < self.settings.max_depth {
-                self.specular(scene, &sp, depth, rng, stats, first, &mut out);
-            }
-            return out;
+        if let Some((from, p_bsdf)) = at.arrival
+            && out.direct != Rgb::ZERO
+        {
+            out.direct *= emission_weight(&dc, scene, from, &hit, p_bsdf);
         }
-        if first || out.albedo == Rgb::ZERO {
-            out.albedo = sp.material.albedo(sp.wo_local);
+        let sp = ShadingPoint::new(scene, &hit, wo);
+        let m = &sp.material;
+        let rough = m.has(Part::Rough);
+        if rough && (at.first || out.albedo == Rgb::ZERO) {
+            out.albedo = m.albedo(sp.wo_local);
             out.normal = sp.frame.n;
         }
-        out.direct += direct_light(&self.direct_config(), scene, &sp, rng, stats);
-        let m = &self.maps;
-        out.caustic = estimate::radiance(
-            &m.caustic,
-            hit.p,
-            &sp.frame,
-            sp.wo_local,
-            &sp.material,
-            &self.settings.caustic,
-            false,
-        );
-        out.indirect = match &self.cache {
-            Some(_) => self.final_gather(scene, &sp, rng, stats),
-            None => estimate::radiance(
-                &m.global,
+        if m.lobes().has_density() {
+            out.direct += direct_light(&dc, scene, &sp, Some(1.0), rng, stats);
+        }
+        if rough {
+            let maps = &self.maps;
+            out.caustic = estimate::radiance(
+                &maps.caustic,
                 hit.p,
                 &sp.frame,
                 sp.wo_local,
-                &sp.material,
-                &self.settings.global,
-                true,
-            ),
-        };
+                m,
+                &self.settings.caustic,
+                false,
+            );
+            out.indirect = match &self.cache {
+                Some(_) => self.final_gather(scene, &sp, rng, stats),
+                None => estimate::radiance(
+                    &maps.global,
+                    hit.p,
+                    &sp.frame,
+                    sp.wo_local,
+                    m,
+                    &self.settings.global,
+                    true,
+                ),
+            };
+        }
+        if m.has(Part::Smooth) && at.depth < self.settings.max_depth {
+            let at = Vertex {
+                first: at.first && !rough,
+                ..at
+            };
+            self.follow_smooth(scene, &sp, at, rng, stats, &mut out);
+        }
         out
     }
 
-    /// Follow mirror and glass. Glass is split into both branches for the first
-    /// `SPLIT_DEPTH` bounces (weights F and 1 − F), since choosing one at random makes bright
-    /// reflections of the light and the caustic flicker between samples.
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "recursive helper carrying the path state"
-    )]
-    fn specular(
+    /// Follow the smooth part of the material (mirrors, glass, near-specular glossy lobes).
+    /// Delta lobes are split into all their branches for the first `SPLIT_DEPTH` bounces
+    /// (glass: weights F and 1 − F), since choosing one at random makes bright reflections of
+    /// the light and the caustic flicker between samples; otherwise the part is sampled once.
+    fn follow_smooth(
         &self,
         scene: &Scene,
         sp: &ShadingPoint,
-        depth: u32,
+        at: Vertex,
         rng: &mut Rng,
         stats: &mut RayStats,
-        first: bool,
         out: &mut Sample,
     ) {
-        let mut branches: [Option<(crate::math::Vec3, Rgb)>; 2] = [None, None];
-        match sp.material {
-            Material::Dielectric(d) if depth < SPLIT_DEPTH => {
-                let (r, t) = d.branches(sp.wo_local, TransportMode::Radiance);
-                branches[0] = Some((r.wi, r.weight));
-                branches[1] = t.map(|t| (t.wi, t.weight));
+        let m = &sp.material;
+        let mut branches: [Option<(Vec3, Rgb, Option<f32>)>; 2] = [None, None];
+        let split = m.specular_branches(sp.wo_local, TransportMode::Radiance);
+        if at.depth < SPLIT_DEPTH && split[0].is_some() {
+            for (slot, b) in branches.iter_mut().zip(split) {
+                *slot = b.map(|b| (b.wi, b.weight, None));
             }
-            m => {
-                let u_lobe = rng.next_f32();
-                branches[0] = m
-                    .sample(sp.wo_local, u_lobe, rng.next_2d(), TransportMode::Radiance)
-                    .map(|b| (b.wi, b.weight));
-            }
+        } else {
+            let u_lobe = rng.next_f32();
+            branches[0] = m
+                .sample_part(
+                    sp.wo_local,
+                    u_lobe,
+                    rng.next_2d(),
+                    TransportMode::Radiance,
+                    Part::Smooth,
+                )
+                .map(|s| (s.wi, s.weight, (!s.is_specular()).then_some(s.pdf)));
         }
         let mut heaviest = 0.0;
-        for (wi_local, weight) in branches.into_iter().flatten() {
+        for (wi_local, weight, pdf) in branches.into_iter().flatten() {
             if weight == Rgb::ZERO {
                 continue;
             }
             let wi = sp.frame.to_world(wi_local);
             let next = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
             stats.bounce += 1;
-            let s = self.trace(scene, &next, depth + 1, rng, stats, false);
+            let s = self.trace(
+                scene,
+                &next,
+                Vertex {
+                    depth: at.depth + 1,
+                    first: false,
+                    arrival: pdf.map(|p| (sp.hit.p, p)),
+                },
+                rng,
+                stats,
+            );
             out.direct += weight * s.direct;
             out.caustic += weight * s.caustic;
             out.indirect += weight * s.indirect;
             // The albedo and normal AOVs follow the strongest branch.
-            if first && weight.max_element() > heaviest {
+            if at.first && weight.max_element() > heaviest {
                 heaviest = weight.max_element();
                 out.albedo = s.albedo;
                 out.normal = s.normal;
@@ -252,12 +296,13 @@ impl PhotonIntegrator {
         }
     }
 
-    /// Indirect light at a diffuse point by final gathering over the precomputed irradiance.
+    /// Indirect light at a rough point by final gathering over the precomputed irradiance.
     ///
+    /// Gather rays sample the rough part of the BSDF (cosine-distributed on diffuse surfaces).
     /// Where the scene has hot regions (see [`crate::photon::hot`]) above the surface, half
-    /// the rays aim at them and half are cosine-distributed; each ray is weighted by the
-    /// balance heuristic over both (Veach 1997, §9.2.1: f / (n_c p_c + n_h p_h)), which keeps
-    /// the estimate unbiased and removes the speckles that small, bright regions made.
+    /// the rays aim at them instead; each ray is weighted by the balance heuristic over both
+    /// (Veach 1997, §9.2.1: f·cos / (n_b p_b + n_h p_h)), which keeps the estimate unbiased
+    /// and removes the speckles that small, bright regions made.
     fn final_gather(
         &self,
         scene: &Scene,
@@ -272,34 +317,42 @@ impl PhotonIntegrator {
             .filter(|_| self.settings.aim_at_hot_regions)
             .and_then(|c| c.hot_sampler(sp.hit.p, sp.frame.n));
         let n_hot = if hot.is_some() { n / 2 } else { 0 };
-        let n_cosine = n - n_hot;
-        let (c_count, h_count) = (n_cosine as f32, n_hot as f32);
+        let n_bsdf = n - n_hot;
+        let (b_count, h_count) = (n_bsdf as f32, n_hot as f32);
+        let m = &sp.material;
         let mut sum = Rgb::ZERO;
-        let mut trace = |wi: crate::math::Vec3, rng: &mut Rng, stats: &mut RayStats| {
+        let mut trace = |wi: Vec3, rng: &mut Rng, stats: &mut RayStats| {
             let cos = wi.dot(sp.frame.n);
             if cos <= 0.0 {
                 return;
             }
-            // f·cos / (n_c p_c + n_h p_h) with f = ρ/π and p_c = cos/π.
+            let wi_local = sp.frame.to_local(wi);
+            let f = m.eval_part(sp.wo_local, wi_local, TransportMode::Radiance, Part::Rough);
+            let p_bsdf = m.pdf_part(sp.wo_local, wi_local, Part::Rough);
             let p_hot = hot.as_ref().map_or(0.0, |h| h.pdf(wi));
-            let weight = cos / (c_count * cos + h_count * PI * p_hot);
-            if !(weight > 0.0 && weight.is_finite()) {
+            let weight = f * (cos / (b_count * p_bsdf + h_count * p_hot));
+            if !(weight.max_element() > 0.0 && weight.is_finite()) {
                 return;
             }
             let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
             sum += weight * self.gathered_radiance(scene, &ray, rng, stats);
         };
-        // Cosine rays, stratified on a jittered grid when their count is a square (else in u).
-        let side = (n_cosine as f32).sqrt() as u32;
-        let strata = if side * side == n_cosine { side } else { 1 };
-        for k in 0..n_cosine {
+        // BSDF rays, stratified on a jittered grid when their count is a square (else in u).
+        let side = (n_bsdf as f32).sqrt() as u32;
+        let strata = if side * side == n_bsdf { side } else { 1 };
+        for k in 0..n_bsdf {
+            let u_lobe = rng.next_f32();
             let mut u = rng.next_2d();
             if strata > 1 {
                 u = (glam::Vec2::new((k % strata) as f32, (k / strata) as f32) + u) / strata as f32;
             } else {
-                u.x = (k as f32 + u.x) / c_count;
+                u.x = (k as f32 + u.x) / b_count;
             }
-            trace(sp.frame.to_world(cosine_hemisphere(u)), rng, stats);
+            if let Some(s) =
+                m.sample_part(sp.wo_local, u_lobe, u, TransportMode::Radiance, Part::Rough)
+            {
+                trace(sp.frame.to_world(s.wi), rng, stats);
+            }
         }
         if let Some(h) = &hot {
             for k in 0..n_hot {
@@ -308,12 +361,11 @@ impl PhotonIntegrator {
                 trace(wi, rng, stats);
             }
         }
-        // ρ for a Lambertian surface (the weights above carry the 1/π and the ray counts).
-        sp.material.albedo(sp.wo_local) * sum
+        sum
     }
 
-    /// Radiance arriving along a gather ray from diffuse surfaces (through mirrors and glass),
-    /// from the precomputed irradiance; emission is left out (counted as direct or caustic).
+    /// Radiance arriving along a gather ray from rough surfaces (through the smooth parts of
+    /// materials), from the photon maps; emission is left out (counted as direct or caustic).
     fn gathered_radiance(
         &self,
         scene: &Scene,
@@ -323,32 +375,71 @@ impl PhotonIntegrator {
     ) -> Rgb {
         let mut ray = *ray;
         let mut weight = Rgb::ONE;
+        let mut l = Rgb::ZERO;
         for _ in 0..self.settings.max_depth.max(1) {
             stats.bounce += 1;
             let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-                return Rgb::ZERO;
+                return l;
             };
             let wo = -ray.dir;
             let material = scene.material_at(&hit);
             let frame: Frame = hit.frame(&material, wo);
-            if let Material::Lambertian(l) = material {
-                let e = self.lookup(&hit, frame.n).unwrap_or(Rgb::ZERO);
-                return weight * l.albedo * FRAC_1_PI * e;
+            let wo_local = frame.to_local(wo);
+            if material.has(Part::Rough) {
+                l += weight * self.reflected_at(&hit, &frame, wo_local, &material);
+            }
+            if !material.has(Part::Smooth) {
+                return l;
             }
             let u_lobe = rng.next_f32();
-            let Some(b) = material.sample(
-                frame.to_local(wo),
+            let Some(b) = material.sample_part(
+                wo_local,
                 u_lobe,
                 rng.next_2d(),
                 TransportMode::Radiance,
+                Part::Smooth,
             ) else {
-                return Rgb::ZERO;
+                return l;
             };
             weight *= b.weight;
             let wi = frame.to_world(b.wi);
             ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
         }
-        Rgb::ZERO
+        l
+    }
+
+    /// Radiance reflected by the rough part at a gather ray's hit, from every photon: the
+    /// precomputed irradiance times ρ/π on diffuse surfaces, a radiance estimate over both
+    /// maps (the BSDF evaluated per photon) on glossy ones.
+    fn reflected_at(
+        &self,
+        hit: &crate::scene::Hit,
+        frame: &Frame,
+        wo_local: Vec3,
+        material: &crate::material::Material,
+    ) -> Rgb {
+        if material.lobes() == Lobes::DIFFUSE_REFLECTION {
+            let e = self.lookup(hit, frame.n).unwrap_or(Rgb::ZERO);
+            return material.albedo(wo_local) * FRAC_1_PI * e;
+        }
+        let g = &self.settings.global;
+        estimate::radiance(
+            &self.maps.global,
+            hit.p,
+            frame,
+            wo_local,
+            material,
+            g,
+            false,
+        ) + estimate::radiance(
+            &self.maps.caustic,
+            hit.p,
+            frame,
+            wo_local,
+            material,
+            g,
+            false,
+        )
     }
 
     /// Irradiance at a gather ray's diffuse hit: the nearest precomputed site's, or an
@@ -356,7 +447,7 @@ impl PhotonIntegrator {
     /// a hot region irradiance changes by orders of magnitude within millimetres, and the
     /// nearest site is often inside the peak (the sites are as dense as the photons): reading
     /// it made the room under a two-sided light strip 5% too bright at 100k photons.
-    fn lookup(&self, hit: &crate::scene::Hit, n: crate::math::Vec3) -> Option<Rgb> {
+    fn lookup(&self, hit: &crate::scene::Hit, n: Vec3) -> Option<Rgb> {
         let cache = self.cache.as_ref()?;
         match cache.lookup_site(hit.p, n, self.settings.cache_radius) {
             Some((e, false)) => Some(e),

@@ -3,11 +3,13 @@
 
 mod area;
 mod directional;
+mod environment;
 mod point;
 mod spot;
 
 pub use area::AreaLight;
 pub use directional::DirectionalLight;
+pub use environment::{EnvironmentLight, EnvironmentMap};
 
 pub use point::PointLight;
 pub use spot::SpotLight;
@@ -50,6 +52,7 @@ pub enum Light {
     Spot(SpotLight),
     Directional(DirectionalLight),
     Area(AreaLight),
+    Environment(EnvironmentLight),
 }
 
 impl Light {
@@ -60,6 +63,7 @@ impl Light {
             Light::Spot(l) => l.power(),
             Light::Directional(l) => l.power(),
             Light::Area(l) => l.power(),
+            Light::Environment(l) => l.power(),
         }
     }
 
@@ -70,6 +74,7 @@ impl Light {
             Light::Spot(l) => l.sample_li(p),
             Light::Directional(l) => l.sample_li(p),
             Light::Area(l) => l.sample_li(p, u_pick, u),
+            Light::Environment(l) => l.sample_li(p, u),
         }
     }
 
@@ -80,10 +85,11 @@ impl Light {
             Light::Spot(l) => l.emit(u_dir),
             Light::Directional(l) => l.emit(u_pos),
             Light::Area(l) => l.emit(u_pick, u_pos, u_dir),
+            Light::Environment(l) => l.emit(u_pos, u_dir),
         }
     }
 
     pub fn is_delta(&self) -> bool {
-        !matches!(self, Light::Area(_))
+        !matches!(self, Light::Area(_) | Light::Environment(_))
     }
 }

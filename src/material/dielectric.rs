@@ -1,4 +1,4 @@
-use super::{BsdfSample, TransportMode};
+use super::{BsdfSample, Lobes, SpecularBranch, TransportMode};
 use crate::math::{Rgb, Vec3};
 
 /// Smooth dielectric boundary (glass): Fresnel reflection and refraction, total internal
@@ -26,15 +26,6 @@ pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
     let r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     0.5 * (r_par * r_par + r_perp * r_perp)
-}
-
-/// One of the two specular branches of a dielectric.
-#[derive(Clone, Copy, Debug)]
-pub struct SpecularBranch {
-    pub wi: Vec3,
-    /// Probability-free weight of the branch: F for reflection, (1 − F)·T (/η² for radiance) for
-    /// refraction.
-    pub weight: Rgb,
 }
 
 impl Dielectric {
@@ -80,13 +71,13 @@ impl Dielectric {
                 wi: t.wi,
                 weight: t.weight / (1.0 - f),
                 pdf: 1.0 - f,
-                specular: true,
+                lobe: Lobes::SPECULAR_TRANSMISSION,
             }),
             _ => Some(BsdfSample {
                 wi: reflected.wi,
                 weight: Rgb::ONE,
                 pdf: f,
-                specular: true,
+                lobe: Lobes::SPECULAR_REFLECTION,
             }),
         }
     }

@@ -1,4 +1,4 @@
-use super::BsdfSample;
+use super::{BsdfSample, Lobes};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use std::f32::consts::FRAC_1_PI;
@@ -37,7 +37,7 @@ impl Lambertian {
             // (ρ/π)·cos θ / (cos θ/π) = ρ
             weight: self.albedo,
             pdf,
-            specular: false,
+            lobe: Lobes::DIFFUSE_REFLECTION,
         })
     }
 }

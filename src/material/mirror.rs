@@ -1,4 +1,4 @@
-use super::BsdfSample;
+use super::{BsdfSample, Lobes};
 use crate::math::{Rgb, Vec3};
 
 /// Perfect specular reflector with a constant reflectance (no Fresnel), as in the Cornell
@@ -17,7 +17,7 @@ impl Mirror {
             wi: Vec3::new(-wo.x, -wo.y, wo.z),
             weight: self.reflectance,
             pdf: 1.0,
-            specular: true,
+            lobe: Lobes::SPECULAR_REFLECTION,
         })
     }
 }

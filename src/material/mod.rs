@@ -1,19 +1,43 @@
-//! Materials: the closed set of BSDFs, one file each.
+//! Materials: the closed set of BSDFs, one file each, behind one interface built on lobes.
+//!
+//! Every material reports its [`Lobes`] (diffuse, glossy, specular; reflection, transmission)
+//! and answers `eval`, `pdf` and `sample` (returning a named [`BsdfSample`]). Integrators decide
+//! by lobes and by [`Part`], never by material kind: adding a material touches its own file,
+//! the `Material` enum below and the description mapping, and nothing in the integrators.
 //!
 //! All BSDF methods work in a local shading frame whose `z` axis is the surface normal on the
 //! side the incoming ray came from for two-sided materials, and the *outward* normal for
 //! dielectrics (which must know whether light is entering or leaving). `wo` and `wi` point away
 //! from the surface.
 
+mod conductor;
 mod dielectric;
 mod lambertian;
+pub mod microfacet;
 mod mirror;
+mod pbr;
+mod rough_dielectric;
 
+pub use conductor::{Conductor, ConductorFresnel, Metal, fresnel_conductor};
 pub use dielectric::{Dielectric, fresnel_dielectric};
 pub use lambertian::Lambertian;
 pub use mirror::Mirror;
+pub use pbr::Pbr;
+pub use rough_dielectric::RoughDielectric;
 
-use crate::math::{Rgb, Vec2, Vec3};
+use crate::math::{Rgb, Vec2, Vec3, luminance};
+
+/// Glossy lobes narrower than this GGX α are *near-specular*: camera paths continue through
+/// them (sampling the lobe) and photons pass them by, as for mirrors and glass; wider lobes are
+/// *rough*: camera paths stop there and read the photon maps, which store photons on them.
+///
+/// Why 0.3: a photon estimate at a glossy point averages the k photons of its disc weighted by
+/// the lobe, so only those arriving inside the lobe count. A GGX lobe of α = 0.3 still catches
+/// a fifth of the photons of a uniformly lit disc (seen at normal incidence); at α = 0.1 it is
+/// about 3%, one photon in a k = 32 estimate, and the highlight breaks into blotches. One more
+/// bounce, to a diffuse surface where every photon counts, is cheaper than the photons that
+/// would need.
+pub const NEAR_SPECULAR_ALPHA: f32 = 0.3;
 
 /// Whether the path carries radiance (from the camera) or importance/flux (from the lights).
 /// Refraction scales radiance by 1/η² but not flux (Veach 1997, ch. 5).
@@ -23,6 +47,89 @@ pub enum TransportMode {
     Importance,
 }
 
+/// Flags describing a BSDF's lobes, as pbrt-v4's `BxDFFlags`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Lobes(u8);
+
+impl Lobes {
+    pub const NONE: Lobes = Lobes(0);
+    pub const REFLECTION: Lobes = Lobes(1);
+    pub const TRANSMISSION: Lobes = Lobes(2);
+    pub const DIFFUSE: Lobes = Lobes(4);
+    pub const GLOSSY: Lobes = Lobes(8);
+    pub const SPECULAR: Lobes = Lobes(16);
+    pub const DIFFUSE_REFLECTION: Lobes = Lobes(4 | 1);
+    pub const GLOSSY_REFLECTION: Lobes = Lobes(8 | 1);
+    pub const GLOSSY_TRANSMISSION: Lobes = Lobes(8 | 2);
+    pub const SPECULAR_REFLECTION: Lobes = Lobes(16 | 1);
+    pub const SPECULAR_TRANSMISSION: Lobes = Lobes(16 | 2);
+
+    /// Whether every flag of `other` is set.
+    pub const fn contains(self, other: Lobes) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    pub const fn intersects(self, other: Lobes) -> bool {
+        self.0 & other.0 != 0
+    }
+
+    pub const fn union(self, other: Lobes) -> Lobes {
+        Lobes(self.0 | other.0)
+    }
+
+    pub const fn is_specular(self) -> bool {
+        self.intersects(Lobes::SPECULAR)
+    }
+
+    /// Whether any lobe has a density (diffuse or glossy), so that `eval` can be non-zero and
+    /// next-event estimation makes sense.
+    pub const fn has_density(self) -> bool {
+        self.intersects(Lobes(4 | 8))
+    }
+}
+
+impl std::ops::BitOr for Lobes {
+    type Output = Lobes;
+    fn bitor(self, rhs: Lobes) -> Lobes {
+        self.union(rhs)
+    }
+}
+
+/// Which lobes of a material a call concerns. The photon-mapping integrators split every
+/// material in two: the *rough* part (diffuse lobes, and glossy lobes of α ≥
+/// [`NEAR_SPECULAR_ALPHA`]), which is estimated from the photon maps, and the *smooth* part
+/// (specular lobes, near-specular glossy lobes and every transmission), which paths follow.
+/// Dielectrics are smooth at any roughness: a photon estimate of transmitted light would need
+/// the photons on the far side of the surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    All,
+    Rough,
+    Smooth,
+}
+
+impl Part {
+    /// Whether a lobe of the given kind (and α, for glossy lobes) belongs to this part.
+    pub fn includes(self, lobe: Lobes, alpha: f32) -> bool {
+        let rough = !lobe.intersects(Lobes::TRANSMISSION)
+            && (lobe.contains(Lobes::DIFFUSE)
+                || (lobe.contains(Lobes::GLOSSY) && alpha >= NEAR_SPECULAR_ALPHA));
+        match self {
+            Part::All => true,
+            Part::Rough => rough,
+            Part::Smooth => !rough,
+        }
+    }
+}
+
+/// One branch of a delta lobe: its direction and its probability-free weight (F for glass's
+/// reflection, (1 − F)·T (/η² for radiance) for its refraction).
+#[derive(Clone, Copy, Debug)]
+pub struct SpecularBranch {
+    pub wi: Vec3,
+    pub weight: Rgb,
+}
+
 /// A sampled direction with its weight.
 #[derive(Clone, Copy, Debug)]
 pub struct BsdfSample {
@@ -30,10 +137,18 @@ pub struct BsdfSample {
     pub wi: Vec3,
     /// f · |cos θi| / pdf: the factor the path throughput is multiplied by.
     pub weight: Rgb,
-    /// Solid-angle density of `wi`; for specular lobes the discrete probability of the lobe.
+    /// Solid-angle density of `wi` (over the lobes of the part sampled); for a specular lobe
+    /// the discrete probability of choosing it.
     pub pdf: f32,
-    /// Whether `wi` came from a Dirac delta lobe (mirror or glass).
-    pub specular: bool,
+    /// The lobe `wi` came from.
+    pub lobe: Lobes,
+}
+
+impl BsdfSample {
+    /// Whether `wi` came from a Dirac delta lobe (mirror or smooth glass).
+    pub fn is_specular(&self) -> bool {
+        self.lobe.is_specular()
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -41,40 +156,89 @@ pub enum Material {
     Lambertian(Lambertian),
     Mirror(Mirror),
     Dielectric(Dielectric),
+    Conductor(Conductor),
+    RoughDielectric(RoughDielectric),
+    Pbr(Pbr),
 }
 
 impl Material {
-    /// True for purely specular materials: they have no non-delta component, so next-event
-    /// estimation is pointless and photons are not stored on them.
-    pub fn is_specular(&self) -> bool {
+    /// The union of the material's lobes.
+    pub fn lobes(&self) -> Lobes {
         match self {
-            Material::Lambertian(_) => false,
-            Material::Mirror(_) | Material::Dielectric(_) => true,
+            Material::Lambertian(_) => Lobes::DIFFUSE_REFLECTION,
+            Material::Mirror(_) => Lobes::SPECULAR_REFLECTION,
+            Material::Dielectric(_) => Lobes::SPECULAR_REFLECTION | Lobes::SPECULAR_TRANSMISSION,
+            Material::Conductor(m) => m.lobes(),
+            Material::RoughDielectric(_) => Lobes::GLOSSY_REFLECTION | Lobes::GLOSSY_TRANSMISSION,
+            Material::Pbr(m) => m.lobes(),
         }
+    }
+
+    /// Whether any of the material's lobes belongs to `part`.
+    pub fn has(&self, part: Part) -> bool {
+        match self {
+            Material::Lambertian(_) => part != Part::Smooth,
+            Material::Mirror(_) | Material::Dielectric(_) | Material::RoughDielectric(_) => {
+                part != Part::Rough
+            }
+            Material::Conductor(m) => part.includes(m.lobes(), m.ggx.alpha()),
+            Material::Pbr(m) => m.has(part),
+        }
+    }
+
+    /// True when every lobe is a delta: no density, so next-event estimation is pointless.
+    pub fn is_specular(&self) -> bool {
+        !self.lobes().has_density()
     }
 
     /// Whether the shading frame should be flipped to the side of `wo` (two-sided materials).
     pub fn is_two_sided(&self) -> bool {
-        !matches!(self, Material::Dielectric(_))
+        !matches!(self, Material::Dielectric(_) | Material::RoughDielectric(_))
     }
 
-    /// BSDF value for a pair of directions (zero for delta lobes).
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+    /// BSDF value of every lobe for a pair of directions (zero for delta lobes).
+    #[inline]
+    pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
+        self.eval_part(wo, wi, mode, Part::All)
+    }
+
+    /// BSDF value of the lobes in `part`.
+    pub fn eval_part(&self, wo: Vec3, wi: Vec3, mode: TransportMode, part: Part) -> Rgb {
+        if !self.has(part) {
+            return Rgb::ZERO;
+        }
         match self {
             Material::Lambertian(m) => m.eval(wo, wi),
             Material::Mirror(_) | Material::Dielectric(_) => Rgb::ZERO,
+            Material::Conductor(m) => m.eval(wo, wi),
+            Material::RoughDielectric(m) => m.eval(wo, wi, mode),
+            Material::Pbr(m) => m.eval(wo, wi, part),
         }
     }
 
     /// Solid-angle density with which [`Material::sample`] picks `wi` (zero for delta lobes).
+    #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.pdf_part(wo, wi, Part::All)
+    }
+
+    /// Density with which [`Material::sample_part`] for `part` picks `wi`.
+    pub fn pdf_part(&self, wo: Vec3, wi: Vec3, part: Part) -> f32 {
+        if !self.has(part) {
+            return 0.0;
+        }
         match self {
             Material::Lambertian(m) => m.pdf(wo, wi),
             Material::Mirror(_) | Material::Dielectric(_) => 0.0,
+            Material::Conductor(m) => m.pdf(wo, wi),
+            Material::RoughDielectric(m) => m.pdf(wo, wi),
+            Material::Pbr(m) => m.pdf(wo, wi, part),
         }
     }
 
-    /// Sample an incident direction. `u_lobe` picks a lobe, `u` the direction within it.
+    /// Sample an incident direction from every lobe. `u_lobe` picks a lobe, `u` the direction
+    /// within it.
+    #[inline]
     pub fn sample(
         &self,
         wo: Vec3,
@@ -82,16 +246,65 @@ impl Material {
         u: Vec2,
         mode: TransportMode,
     ) -> Option<BsdfSample> {
+        self.sample_part(wo, u_lobe, u, mode, Part::All)
+    }
+
+    /// Sample an incident direction from the lobes in `part`.
+    pub fn sample_part(
+        &self,
+        wo: Vec3,
+        u_lobe: f32,
+        u: Vec2,
+        mode: TransportMode,
+        part: Part,
+    ) -> Option<BsdfSample> {
+        if !self.has(part) {
+            return None;
+        }
         match self {
             Material::Lambertian(m) => m.sample(wo, u),
             Material::Mirror(m) => m.sample(wo),
             Material::Dielectric(m) => m.sample(wo, u_lobe, mode),
+            Material::Conductor(m) => m.sample(wo, u),
+            Material::RoughDielectric(m) => m.sample(wo, u_lobe, u, mode),
+            Material::Pbr(m) => m.sample(wo, u_lobe, u, part),
+        }
+    }
+
+    /// The branches of the material's delta lobes at `wo`, each with its whole weight, so that a
+    /// path can follow all of them instead of choosing: both of smooth glass, the one of a
+    /// mirror, a polished metal or a polished pbr coat; none for lobes with a density.
+    pub fn specular_branches(&self, wo: Vec3, mode: TransportMode) -> [Option<SpecularBranch>; 2] {
+        let mirrored = |weight: Rgb| {
+            (wo.z > 0.0).then_some(SpecularBranch {
+                wi: Vec3::new(-wo.x, -wo.y, wo.z),
+                weight,
+            })
+        };
+        match self {
+            Material::Dielectric(m) => {
+                let (r, t) = m.branches(wo, mode);
+                [Some(r), t]
+            }
+            Material::Mirror(m) => [mirrored(m.reflectance), None],
+            Material::Conductor(m) if m.ggx.is_delta() => [mirrored(m.fresnel.eval(wo.z)), None],
+            Material::Pbr(m) if m.ggx.is_delta() => [mirrored(m.coat_reflectance(wo)), None],
+            _ => [None, None],
         }
     }
 
     /// Hemispherical-directional reflectance (albedo) seen from `wo`, for Russian roulette and
-    /// for the albedo AOV.
+    /// for the albedo AOV (approximate for microfacet lobes: their Fresnel at `wo`).
     pub fn albedo(&self, wo: Vec3) -> Rgb {
+        self.albedo_part(wo, Part::All)
+    }
+
+    /// The albedo of the lobes in `part` (approximate for microfacet lobes), by which the
+    /// progressive integrators choose between the two parts.
+    pub fn albedo_part(&self, wo: Vec3, part: Part) -> Rgb {
+        if !self.has(part) {
+            return Rgb::ZERO;
+        }
         match self {
             Material::Lambertian(m) => m.albedo,
             Material::Mirror(m) => m.reflectance,
@@ -99,6 +312,27 @@ impl Material {
                 let f = fresnel_dielectric(wo.z, m.ior);
                 Rgb::splat(f) + (1.0 - f) * m.transmittance
             }
+            Material::Conductor(m) => m.fresnel.eval(wo.z.abs()),
+            Material::RoughDielectric(m) => {
+                let f = fresnel_dielectric(wo.z, m.ior);
+                Rgb::splat(f) + (1.0 - f) * m.transmittance
+            }
+            Material::Pbr(m) => m.albedo(wo, part),
         }
+    }
+
+    /// Whether a sampled lobe belongs to the smooth part (see [`Part`]).
+    pub fn is_smooth_lobe(&self, lobe: Lobes) -> bool {
+        let alpha = match self {
+            Material::Conductor(m) => m.ggx.alpha(),
+            Material::Pbr(m) => m.ggx.alpha(),
+            _ => 0.0,
+        };
+        Part::Smooth.includes(lobe, alpha)
+    }
+
+    /// Luminance of [`Material::albedo_part`].
+    pub fn part_weight(&self, wo: Vec3, part: Part) -> f32 {
+        luminance(self.albedo_part(wo, part))
     }
 }

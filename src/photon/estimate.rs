@@ -9,7 +9,7 @@
 //! object do not leak in.
 
 use super::map::PhotonMap;
-use crate::material::Material;
+use crate::material::{Material, Part, TransportMode};
 use crate::math::{Frame, Rgb, Vec3};
 use std::f32::consts::PI;
 
@@ -182,7 +182,8 @@ pub(super) fn gather(
     }
 }
 
-/// Reflected radiance at `p` toward `wo` from the photons of `map`: Σ f ΔΦ w. `frame.n` is the
+/// Reflected radiance at `p` toward `wo` from the photons of `map`: Σ f ΔΦ w, with f the
+/// material's rough part (photons are stored only on rough parts). `frame.n` is the
 /// normal on the side of `wo`. With `skip_direct`, photons straight from a light are left out
 /// (direct light is computed by next-event estimation instead).
 pub fn radiance(
@@ -202,7 +203,9 @@ pub fn radiance(
     };
     gather(map, p, frame.n, g, filter, &mut |i, w| {
         let wi = frame.to_local(photons[i].incoming());
-        l += material.eval(wo_local, wi) * photons[i].relative_power() * w;
+        l += material.eval_part(wo_local, wi, TransportMode::Radiance, Part::Rough)
+            * photons[i].relative_power()
+            * w;
     });
     l * map.power_scale
 }
@@ -232,7 +235,9 @@ pub fn reflected_flux_within(
         if let Some(m) = disc_distance2(ph.position() - p, d2, frame.n, ph.normal())
             && m <= r2
         {
-            sum += material.eval(wo_local, frame.to_local(ph.incoming())) * ph.relative_power();
+            let wi = frame.to_local(ph.incoming());
+            sum += material.eval_part(wo_local, wi, TransportMode::Radiance, Part::Rough)
+                * ph.relative_power();
             count += 1;
         }
     });

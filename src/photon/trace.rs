@@ -4,7 +4,7 @@
 use super::map::{MapKind, PhotonMap};
 use super::record::{Channel, Photon};
 use crate::error::{Error, Result};
-use crate::material::TransportMode;
+use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, offset_origin};
 use crate::sampling::{Distribution1D, Rng};
 use crate::scene::Scene;
@@ -252,7 +252,7 @@ fn trace_one(
         offset_origin(e.origin, e.normal, e.dir)
     };
     let mut ray = Ray::new(origin, e.dir);
-    // True while every surface so far was specular (the path is L S* so far).
+    // True while every scattering so far was by a smooth lobe (the path is L S* so far).
     let mut specular_only = true;
     for depth in 1..=config.max_depth {
         let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
@@ -261,7 +261,7 @@ fn trace_one(
         let wo = -ray.dir;
         let material = scene.material_at(&hit);
         let frame = hit.frame(&material, wo);
-        if !material.is_specular() {
+        if material.has(Part::Rough) {
             let photon = Photon::new(hit.p, frame.n, wo, power, depth, channel);
             if depth > 1 && specular_only {
                 out.caustic.push(photon);
@@ -293,7 +293,7 @@ fn trace_one(
             return;
         }
         power *= s.weight / survive;
-        specular_only &= s.specular;
+        specular_only &= material.is_smooth_lobe(s.lobe);
         let wi = frame.to_world(s.wi);
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
     }

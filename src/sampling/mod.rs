@@ -156,6 +156,61 @@ impl Distribution1D {
     }
 }
 
+/// A piecewise-constant density over the unit square, `width × height` cells in rows (row 0 at
+/// v = 0): a marginal distribution over rows and a conditional one within each row (pbrt-v4
+/// `PiecewiseConstant2D`). For environment maps.
+#[derive(Clone, Debug)]
+pub struct Distribution2D {
+    width: usize,
+    height: usize,
+    rows: Vec<Option<Distribution1D>>,
+    marginal: Distribution1D,
+}
+
+impl Distribution2D {
+    /// From non-negative cell weights, row-major. `None` if they sum to zero.
+    pub fn new(weights: &[f64], width: usize, height: usize) -> Option<Self> {
+        if width == 0 || height == 0 || weights.len() != width * height {
+            return None;
+        }
+        let rows: Vec<_> = weights.chunks(width).map(Distribution1D::new).collect();
+        let totals: Vec<f64> = rows
+            .iter()
+            .map(|r| r.as_ref().map_or(0.0, Distribution1D::total))
+            .collect();
+        Some(Self {
+            width,
+            height,
+            marginal: Distribution1D::new(&totals)?,
+            rows,
+        })
+    }
+
+    /// A point of the unit square and its density there.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (j, rest_y) = self.marginal.sample(u.y);
+        let Some(row) = &self.rows[j] else {
+            return (Vec2::ZERO, 0.0);
+        };
+        let (i, rest_x) = row.sample(u.x);
+        let p = Vec2::new(
+            (i as f32 + rest_x) / self.width as f32,
+            (j as f32 + rest_y) / self.height as f32,
+        );
+        let pdf = self.marginal.pmf(j) * row.pmf(i) * (self.width * self.height) as f32;
+        (p, pdf)
+    }
+
+    /// Density at a point of the unit square.
+    pub fn pdf(&self, p: Vec2) -> f32 {
+        let i = ((p.x * self.width as f32) as usize).min(self.width - 1);
+        let j = ((p.y * self.height as f32) as usize).min(self.height - 1);
+        self.rows[j].as_ref().map_or(0.0, |row| {
+            self.marginal.pmf(j) * row.pmf(i) * (self.width * self.height) as f32
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,7 +3,7 @@ use crate::accel::Bvh;
 use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
 use crate::geometry::{Disk, Shape, Sphere, Triangle};
-use crate::light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
+use crate::light::{AreaLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
 use crate::material::Material;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
@@ -290,6 +290,14 @@ impl SceneBuilder {
         self
     }
 
+    /// Light from every direction; its power is set from the scene's bounding sphere at build.
+    /// A scene has at most one (a second replaces the first).
+    pub fn environment_light(&mut self, light: EnvironmentLight) -> &mut Self {
+        self.lights.retain(|l| !matches!(l, Light::Environment(_)));
+        self.lights.push(Light::Environment(light));
+        self
+    }
+
     pub fn spot_light(&mut self, light: SpotLight) -> &mut Self {
         self.lights.push(Light::Spot(light));
         self
@@ -406,13 +414,16 @@ impl SceneBuilder {
 /// have no power.
 fn fit_directional_lights(lights: &mut [Light], bounds: &crate::geometry::Bounds) {
     for l in lights {
-        if let Light::Directional(d) = l {
-            d.scene_center = 0.5 * (bounds.min + bounds.max);
-            d.scene_radius = 0.5 * bounds.extent().length() * 1.001;
-            if !d.scene_radius.is_finite() || !d.scene_center.is_finite() {
-                d.scene_center = Vec3::ZERO;
-                d.scene_radius = 0.0;
-            }
+        let (center, radius) = match l {
+            Light::Directional(d) => (&mut d.scene_center, &mut d.scene_radius),
+            Light::Environment(e) => (&mut e.scene_center, &mut e.scene_radius),
+            _ => continue,
+        };
+        *center = 0.5 * (bounds.min + bounds.max);
+        *radius = 0.5 * bounds.extent().length() * 1.001;
+        if !radius.is_finite() || !center.is_finite() {
+            *center = Vec3::ZERO;
+            *radius = 0.0;
         }
     }
 }

@@ -20,7 +20,7 @@ pub struct TriangleMesh {
 use crate::accel::Bvh;
 use crate::camera::CameraDesc;
 use crate::geometry::{Bounds, Shape};
-use crate::light::Light;
+use crate::light::{EnvironmentLight, Light};
 use crate::material::Material;
 use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
@@ -195,8 +195,26 @@ impl Scene {
         }
         match &self.lights[hit.light as usize] {
             Light::Area(l) => l.emitted(hit.ng, w),
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => Rgb::ZERO,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => {
+                Rgb::ZERO
+            }
         }
+    }
+
+    /// The environment light, if the scene has one, with its index among the lights.
+    pub fn environment(&self) -> Option<(usize, &EnvironmentLight)> {
+        self.lights.iter().enumerate().find_map(|(i, l)| match l {
+            Light::Environment(e) => Some((i, e)),
+            _ => None,
+        })
+    }
+
+    /// Radiance arriving along a ray that leaves the scene in direction `dir`: the environment's,
+    /// or zero.
+    #[inline]
+    pub fn escaped(&self, dir: Vec3) -> Rgb {
+        self.environment()
+            .map_or(Rgb::ZERO, |(_, e)| e.radiance(dir))
     }
 
     /// Pick a light in proportion to its power; returns its index and probability.

@@ -1,0 +1,199 @@
+//! The glTF 2.0 metallic-roughness material, as the specification's Appendix B defines it:
+//!
+//! f = (1 − m)·[(1 − F_d)·base/π + F_d·D·V] + m·[F_m·D·V]
+//!
+//! with D the GGX distribution of α = roughness², V = G₂ / (4 |n·l| |n·v|) with the
+//! height-correlated Smith G₂, F_d = 0.04 + 0.96 (1 − |v·h|)⁵ (a dielectric of IOR 1.5) and
+//! F_m = base + (1 − base)(1 − |v·h|)⁵. Schlick's formula is linear in F0, so the two specular
+//! terms are one GGX lobe with F0 = mix(0.04, base, m). Two-sided. A roughness under √0.001
+//! makes the specular lobe a delta (a polished coat over the diffuse base).
+
+use super::conductor::schlick;
+use super::microfacet::Ggx;
+use super::{BsdfSample, Lobes, Part};
+use crate::math::{Rgb, Vec2, Vec3, luminance, reflect};
+use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
+use std::f32::consts::FRAC_1_PI;
+
+/// Reflectance of the dielectric coat at normal incidence (IOR 1.5).
+const DIELECTRIC_F0: f32 = 0.04;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pbr {
+    pub base_color: Rgb,
+    pub metallic: f32,
+    /// GGX of α = roughness² (isotropic).
+    pub ggx: Ggx,
+}
+
+/// Which of the two lobes a call uses.
+#[derive(Clone, Copy)]
+struct Use {
+    diffuse: bool,
+    specular: bool,
+}
+
+impl Pbr {
+    /// From the glTF factors: perceptual roughness (α = roughness²).
+    pub fn new(base_color: Rgb, metallic: f32, roughness: f32) -> Self {
+        let r = roughness.clamp(0.0, 1.0);
+        Self {
+            base_color,
+            metallic: metallic.clamp(0.0, 1.0),
+            ggx: Ggx::isotropic(r * r),
+        }
+    }
+
+    fn f0(&self) -> Rgb {
+        Rgb::splat(DIELECTRIC_F0).lerp(self.base_color, self.metallic)
+    }
+
+    fn specular_lobe(&self) -> Lobes {
+        if self.ggx.is_delta() {
+            Lobes::SPECULAR_REFLECTION
+        } else {
+            Lobes::GLOSSY_REFLECTION
+        }
+    }
+
+    fn has_diffuse(&self) -> bool {
+        self.metallic < 1.0
+    }
+
+    pub fn lobes(&self) -> Lobes {
+        if self.has_diffuse() {
+            Lobes::DIFFUSE_REFLECTION | self.specular_lobe()
+        } else {
+            self.specular_lobe()
+        }
+    }
+
+    fn uses(&self, part: Part) -> Use {
+        Use {
+            diffuse: self.has_diffuse() && part.includes(Lobes::DIFFUSE_REFLECTION, 1.0),
+            specular: part.includes(self.specular_lobe(), self.ggx.alpha()),
+        }
+    }
+
+    pub fn has(&self, part: Part) -> bool {
+        let u = self.uses(part);
+        u.diffuse || u.specular
+    }
+
+    /// Probability of sampling the specular lobe when both are in use: in proportion to the
+    /// lobes' albedos at `wo`.
+    fn specular_probability(&self, wo: Vec3, u: Use) -> f32 {
+        match (u.diffuse, u.specular) {
+            (false, _) => 1.0,
+            (true, false) => 0.0,
+            (true, true) => {
+                let a = self.albedo_split(wo);
+                let (d, s) = (luminance(a.0), luminance(a.1));
+                if d + s > 0.0 {
+                    (s / (d + s)).clamp(0.1, 0.9)
+                } else {
+                    0.5
+                }
+            }
+        }
+    }
+
+    /// Approximate albedos of the diffuse and specular lobes seen from `wo`.
+    fn albedo_split(&self, wo: Vec3) -> (Rgb, Rgb) {
+        let c = wo.z.abs();
+        let f_d = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * (1.0 - c).clamp(0.0, 1.0).powi(5);
+        let diffuse = if self.has_diffuse() {
+            self.base_color * ((1.0 - self.metallic) * (1.0 - f_d))
+        } else {
+            Rgb::ZERO
+        };
+        (diffuse, schlick(self.f0(), c))
+    }
+
+    /// Reflectance of the specular lobe toward the mirror direction of `wo` (its weight when
+    /// polished).
+    pub fn coat_reflectance(&self, wo: Vec3) -> Rgb {
+        schlick(self.f0(), wo.z)
+    }
+
+    pub fn albedo(&self, wo: Vec3, part: Part) -> Rgb {
+        let u = self.uses(part);
+        let (d, s) = self.albedo_split(wo);
+        d * f32::from(u8::from(u.diffuse)) + s * f32::from(u8::from(u.specular))
+    }
+
+    pub fn eval(&self, wo: Vec3, wi: Vec3, part: Part) -> Rgb {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return Rgb::ZERO;
+        }
+        let u = self.uses(part);
+        let h = (wo + wi).normalize();
+        let v_dot_h = wo.dot(h).clamp(0.0, 1.0);
+        let mut f = Rgb::ZERO;
+        if u.diffuse {
+            let f_d = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * (1.0 - v_dot_h).powi(5);
+            f += self.base_color * ((1.0 - self.metallic) * (1.0 - f_d) * FRAC_1_PI);
+        }
+        if u.specular && !self.ggx.is_delta() {
+            let dg = self.ggx.d(h) * self.ggx.g(wo, wi) / (4.0 * wo.z * wi.z);
+            f += schlick(self.f0(), v_dot_h) * dg;
+        }
+        f
+    }
+
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, part: Part) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        let u = self.uses(part);
+        let p_spec = self.specular_probability(wo, u);
+        let mut pdf = 0.0;
+        if u.diffuse {
+            pdf += (1.0 - p_spec) * cosine_hemisphere_pdf(wi.z);
+        }
+        if u.specular && !self.ggx.is_delta() {
+            let h = (wo + wi).normalize();
+            pdf += p_spec * self.ggx.visible_pdf(wo, h) / (4.0 * wo.dot(h));
+        }
+        pdf
+    }
+
+    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, part: Part) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let uses = self.uses(part);
+        let p_spec = self.specular_probability(wo, uses);
+        let specular = u_lobe < p_spec;
+        if specular && self.ggx.is_delta() {
+            return Some(BsdfSample {
+                wi: Vec3::new(-wo.x, -wo.y, wo.z),
+                weight: schlick(self.f0(), wo.z) / p_spec,
+                pdf: p_spec,
+                lobe: Lobes::SPECULAR_REFLECTION,
+            });
+        }
+        let (wi, lobe) = if specular {
+            (
+                reflect(wo, self.ggx.sample_visible(wo, u)),
+                Lobes::GLOSSY_REFLECTION,
+            )
+        } else {
+            (cosine_hemisphere(u), Lobes::DIFFUSE_REFLECTION)
+        };
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let pdf = self.pdf(wo, wi, part);
+        if pdf.is_nan() || pdf <= 0.0 {
+            return None;
+        }
+        let weight = self.eval(wo, wi, part) * (wi.z / pdf);
+        weight.is_finite().then_some(BsdfSample {
+            wi,
+            weight,
+            pdf,
+            lobe,
+        })
+    }
+}
