@@ -24,6 +24,12 @@ Conventions (checked scene by scene against Photon's `path` integrator, see READ
 - spot lights: a hard cone (Photon `falloff = 0`, Mitsuba `beam_width = cutoff_angle`): the two
   soft-edge profiles differ (smoothstep in cos theta vs linear in angle) and cannot be matched.
 - meshes without normals are flat in Photon: Mitsuba gets `face_normals = true`.
+- conductor = Mitsuba `twosided(roughconductor)` (`conductor` when alpha = 0) with the preset
+  `material` (gold Au, silver Ag, copper Cu, aluminium Al) and distribution `ggx`.
+- rough glass (alpha > 0) = Mitsuba `roughdielectric`, `ggx`, `int_ior` = ior, `ext_ior` = 1.
+- pbr (glTF 2.0 metallic-roughness) = `twosided(gltf_pbr)`, the Python plugin in gltf_pbr.py.
+- environment light = Mitsuba `envmap` (`scale` = intensity, to_world = rotate about +y), or
+  `constant` for a uniform radiance. The sky image comes from make_sky.py.
 """
 
 import math
@@ -33,6 +39,7 @@ import sys
 import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
 RES = 128
 
 # --------------------------------------------------------------------------------------------
@@ -183,8 +190,15 @@ class Scene:
     def mirror(self, name, reflectance=1.0):
         self.materials[name] = dict(type="mirror", reflectance=reflectance)
 
-    def glass(self, name, ior):
-        self.materials[name] = dict(type="glass", ior=ior)
+    def glass(self, name, ior, alpha=0.0):
+        self.materials[name] = dict(type="glass", ior=ior, alpha=alpha)
+
+    def conductor(self, name, metal, alpha=0.0):
+        assert metal in METALS, metal
+        self.materials[name] = dict(type="conductor", metal=metal, alpha=alpha)
+
+    def pbr(self, name, base_color, metallic=0.0, roughness=0.5):
+        self.materials[name] = dict(type="pbr", base_color=base_color, metallic=metallic, roughness=roughness)
 
     # shapes --------------------------------------------------------------------------------
     def _toml_emission(self, emission):
@@ -399,6 +413,29 @@ class Scene:
         )
         self.lights.append((toml, xml))
 
+    def environment(self, file=None, radiance=None, intensity=1.0, rotate=0.0):
+        """An environment light: an equirectangular image `file` (Mitsuba `envmap`, `scale` =
+        intensity, turned by `rotate` degrees about +y) or a uniform `radiance` (`constant`)."""
+        toml = ["[[lights]]", 'type = "environment"']
+        if file:
+            toml.append(f'file = "{file}"')
+            xml = (
+                '<emitter type="envmap">\n'
+                f'    <string name="filename" value="{file}"/>\n'
+                f'    <float name="scale" value="{fnum(intensity)}"/>\n'
+                f'    <transform name="to_world"><rotate y="1" angle="{fnum(rotate)}"/></transform>\n'
+                "</emitter>"
+            )
+        else:
+            toml.append(f"radiance = {tvec(radiance)}")
+            xml = (
+                '<emitter type="constant">\n'
+                f'    <rgb name="radiance" value="{xvec([c * intensity for c in rgb3(radiance)])}"/>\n'
+                "</emitter>"
+            )
+        toml += [f"intensity = {fnum(intensity)}", f"rotate = {fnum(rotate)}"]
+        self.lights.append((toml, xml))
+
     # output --------------------------------------------------------------------------------
     def toml(self):
         c = self.camera
@@ -430,8 +467,17 @@ class Scene:
                     out.append(f"albedo = {tvec(m['albedo'])}")
             elif m["type"] == "mirror":
                 out.append(f"reflectance = {tvec(m['reflectance'])}")
+            elif m["type"] == "conductor":
+                out.append(f'metal = "{m["metal"]}"')
+                out.append(f"alpha = {fnum(m['alpha'])}")
+            elif m["type"] == "pbr":
+                out.append(f"base_color = {tvec(rgb3(m['base_color']))}")
+                out.append(f"metallic = {fnum(m['metallic'])}")
+                out.append(f"roughness = {fnum(m['roughness'])}")
             else:
                 out.append(f"ior = {fnum(m['ior'])}")
+                if m["alpha"]:
+                    out.append(f"alpha = {fnum(m['alpha'])}")
             out.append("")
         for toml, _ in self.shapes + self.lights:
             out += toml + [""]
@@ -485,6 +531,29 @@ class Scene:
                     f'<bsdf type="twosided" id="{name}"><bsdf type="conductor">'
                     '<string name="material" value="none"/>'
                     f'<rgb name="specular_reflectance" value="{xvec(m["reflectance"])}"/></bsdf></bsdf>'
+                )
+            elif m["type"] == "conductor":
+                preset = f'<string name="material" value="{METALS[m["metal"]]}"/>'
+                if m["alpha"]:
+                    inner = (
+                        f'<bsdf type="roughconductor">{preset}<string name="distribution" value="ggx"/>'
+                        f'<float name="alpha" value="{fnum(m["alpha"])}"/></bsdf>'
+                    )
+                else:
+                    inner = f'<bsdf type="conductor">{preset}</bsdf>'
+                out.append(f'<bsdf type="twosided" id="{name}">{inner}</bsdf>')
+            elif m["type"] == "pbr":
+                out.append(
+                    f'<bsdf type="twosided" id="{name}"><bsdf type="gltf_pbr">'
+                    f'<rgb name="base_color" value="{xvec(m["base_color"])}"/>'
+                    f'<float name="metallic" value="{fnum(m["metallic"])}"/>'
+                    f'<float name="roughness" value="{fnum(m["roughness"])}"/></bsdf></bsdf>'
+                )
+            elif m["alpha"]:
+                out.append(
+                    f'<bsdf type="roughdielectric" id="{name}"><string name="distribution" value="ggx"/>'
+                    f'<float name="alpha" value="{fnum(m["alpha"])}"/>'
+                    f'<float name="int_ior" value="{fnum(m["ior"])}"/><float name="ext_ior" value="1.0"/></bsdf>'
                 )
             else:
                 out.append(
@@ -562,6 +631,8 @@ def ply_binary(positions, triangles, normals=None):
 # Scenes
 
 WHITE = [0.7, 0.7, 0.7]
+# Photon's conductor presets and Mitsuba's names for them (Mitsuba's RGB eta, k: README.md).
+METALS = {"gold": "Au", "silver": "Ag", "copper": "Cu", "aluminium": "Al"}
 RED = [0.63, 0.065, 0.05]
 GREEN = [0.14, 0.45, 0.091]
 
@@ -908,10 +979,87 @@ mean and make the mean ratio converge slowly.""")
     return s
 
 
+def glossy_cornell():
+    s = Scene("glossy-cornell", """
+Glossy materials under a ceiling quad light (out of the frame) in a Cornell-like box: a rough gold
+sphere (conductor, GGX alpha 0.2; Mitsuba roughconductor with its "Au" preset) and a rough glass
+sphere (ior 1.5, GGX alpha 0.1; Mitsuba roughdielectric), which casts a blurred caustic. Mitsuba's
+microfacet models use the separable Smith G1(wi) G1(wo), not the height-correlated form (see
+README.md).""")
+    room_materials(s)
+    s.conductor("gold", "gold", 0.2)
+    s.glass("frosted", 1.5, 0.1)
+    low_camera(s)
+    room(s)
+    y = 2.0 - 1e-3
+    s.quad([[-0.3, y, -0.3], [0.3, y, -0.3], [0.3, y, 0.3], [-0.3, y, 0.3]], emission=("power", 14.0), light=True)
+    s.sphere([-0.45, 0.38, -0.25], 0.38, "gold")
+    s.sphere([0.45, 0.3, 0.2], 0.3, "frosted")
+    s.ref_spp = 32768
+    return s
+
+
+def env_spheres():
+    s = Scene("env-spheres", """
+An environment light only: the procedural sky of make_sky.py (sky.exr, beside this file: a blue
+sky, a brown ground half, a soft sun 5-8 degrees in radius at 35 degrees elevation, 60 times
+the sky's radiance), turned 30 degrees about +y so that the sun shines from the right (from
+(0.81, 0.57, 0.09)), over a large grey diffuse ground plane. Ten glTF metallic-roughness (pbr)
+spheres of one base colour: the front row dielectric (metallic 0), the back row metal
+(metallic 1), roughness 0, 0.25, 0.5, 0.75, 1 from left to right. Mitsuba renders the pbr
+material with the Python plugin gltf_pbr.py. The camera looks down enough to keep the sky and
+the plane's far edge out of the frame; the sky is seen in the spheres.""")
+    s.diffuse("ground", [0.5, 0.5, 0.5])
+    for row, metallic in enumerate([0.0, 1.0]):
+        for i, roughness in enumerate([0.0, 0.25, 0.5, 0.75, 1.0]):
+            s.pbr(f"pbr{row}{i}", [0.9, 0.5, 0.3], metallic, roughness)
+    s.set_camera([0.0, 2.2, 2.6], [0.0, 0.1, -0.1], fov=47.0)
+    # The ground: 20 x 20, large enough to fill the frame (its far edge, 10 degrees below the
+    # horizon, is 4 degrees above the frame's top), small enough that photons leaving a disc over
+    # the scene's bounding sphere (radius 14) still land near the spheres.
+    g = 10.0
+    s.quad([[-g, 0.0, g], [g, 0.0, g], [g, 0.0, -g], [-g, 0.0, -g]], "ground")
+    for row, z in enumerate([0.35, -0.35]):
+        for i in range(5):
+            s.sphere([-1.0 + 0.5 * i, 0.22, z], 0.22, f"pbr{row}{i}")
+    s.environment(file="sky.exr", intensity=1.0, rotate=30.0)
+    sky = os.path.join(ROOT, "scenes", "assets", "sky.exr")
+    if not os.path.exists(sky):
+        raise SystemExit("scenes/assets/sky.exr is missing: run python validation/make_sky.py (numpy, mitsuba)")
+    with open(sky, "rb") as f:
+        s.assets["sky.exr"] = f.read()
+    s.ref_spp = 8192
+    return s
+
+
+def glossy_floor_spot():
+    s = Scene("glossy-floor-spot", """
+A glossy floor (pbr: grey base colour 0.5, metallic 0, roughness 0.4, GGX alpha 0.16) in a
+Cornell-like box, lit by a hard-edged spot light low by the back wall aimed down toward the
+front: the light's glossy highlight lies on the floor in front of a diffuse box and sphere,
+whose shadows fall toward the camera; the walls are seen blurred in the floor. Mitsuba renders
+the pbr material with the Python plugin gltf_pbr.py.""")
+    room_materials(s)
+    s.pbr("floor", [0.5, 0.5, 0.5], 0.0, 0.4)
+    s.diffuse("blue", [0.15, 0.25, 0.7])
+    s.diffuse("yellow", [0.7, 0.6, 0.2])
+    s.set_camera([0.0, 1.6, 2.6], [0.0, 0.3, -0.1], fov=39.3)
+    room(s)
+    # The room's floor, replaced by the glossy one, 0.3 longer in front (the frame's bottom edge).
+    del s.shapes[0]
+    s.quad([[-1.0, 0.0, 1.3], [1.0, 0.0, 1.3], [1.0, 0.0, -1.0], [-1.0, 0.0, -1.0]], "floor")
+    s.box([0.45, 0.6, 0.45], "blue", rotate_y=25.0, translate=[-0.45, 0.3, -0.35])
+    s.sphere([0.45, 0.25, -0.3], 0.25, "yellow")
+    s.spot([0.2, 1.25, -0.9], [0.05, 0.0, 0.45], [10.0, 9.5, 8.8], 35.0)
+    s.ref_spp = 12288
+    return s
+
+
 SCENES = {
     f.__name__.replace("_", "-"): f
     for f in [point_light, spot_light, directional, grazing_area, curved_ceiling, glass_caustics,
-              indirect_only, textured_mesh, millimetres, light_strip]
+              indirect_only, textured_mesh, millimetres, light_strip, glossy_cornell, env_spheres,
+              glossy_floor_spot]
 }
 
 

@@ -21,6 +21,9 @@ LLVM variants, Dr.Jit must find libLLVM: on Debian `apt-get install libllvm19`, 
 `export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1` (this script tries
 that path itself when the variable is unset).
 
+Photon's `pbr` material (the glTF 2.0 metallic-roughness BRDF) has no Mitsuba plugin: the
+scenes use `gltf_pbr`, the Python plugin in validation/gltf_pbr.py, registered here.
+
 Options: --variant (default llvm_ad_rgb, falling back to scalar_rgb), --spp N (override the
 scene's count, e.g. for a quick look), --output FILE (only with one scene), --pass-spp N.
 """
@@ -128,6 +131,10 @@ def main():
     import mitsuba as mi
 
     variant = set_variant(mi, a.variant)
+    sys.path.insert(0, HERE)
+    import gltf_pbr  # the glTF metallic-roughness BRDF (Photon's pbr) as a Mitsuba plugin
+
+    gltf_pbr.register()
     mi.set_log_level(mi.LogLevel.Error)  # the samplers' "sample count rounded" warnings
     if mi.__version__ != MITSUBA_VERSION_USED:
         print(f"note: Mitsuba {mi.__version__}; the references were made with {MITSUBA_VERSION_USED}", file=sys.stderr)

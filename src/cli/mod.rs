@@ -10,8 +10,8 @@ mod validate;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use photon::description::RenderSpec;
 use photon::description::builtin::BUILTINS;
-use photon::description::{RenderSpec, load_scene};
 use photon::scene::Scene;
 
 #[derive(Parser)]
@@ -111,6 +111,101 @@ fn scenes(a: &ScenesArgs) -> Result<()> {
     Ok(())
 }
 
+/// `--env FILE|R,G,B`, `--env-rotate DEG`, `--env-intensity S`.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct EnvironmentArgs {
+    /// Light the scene with a sky: an equirectangular image (.exr, .hdr, .pfm) or a uniform
+    /// radiance R,G,B (or one number); replaces the scene's own environment light.
+    #[arg(long, value_name = "FILE|R,G,B")]
+    pub env: Option<String>,
+    /// Turn the sky about +y by this many degrees (the scene's own sky without --env).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub env_rotate: Option<f32>,
+    /// Multiply the sky's radiance (the scene's own sky without --env).
+    #[arg(long, value_name = "S")]
+    pub env_intensity: Option<f32>,
+}
+
+impl EnvironmentArgs {
+    fn apply(&self, desc: &mut photon::description::SceneDesc) -> photon::Result<()> {
+        use photon::description::{EnvironmentSpec, Sky};
+        let bad = |m: String| photon::Error::InvalidScene(m);
+        if let Some(i) = self.env_intensity
+            && !(i >= 0.0 && i.is_finite())
+        {
+            return Err(bad(format!(
+                "--env-intensity {i}: must be a finite number ≥ 0"
+            )));
+        }
+        if let Some(r) = self.env_rotate
+            && !r.is_finite()
+        {
+            return Err(bad(format!(
+                "--env-rotate {r}: must be a finite number of degrees"
+            )));
+        }
+        if let Some(value) = &self.env {
+            let sky = parse_sky(value).map_err(bad)?;
+            desc.set_environment(EnvironmentSpec {
+                sky,
+                intensity: 1.0,
+                rotate_deg: 0.0,
+            });
+        }
+        if self.env_rotate.is_none() && self.env_intensity.is_none() {
+            return Ok(());
+        }
+        let Some(e) = desc.environment_mut() else {
+            return Err(bad(
+                "--env-rotate and --env-intensity change an environment light, and the scene has none: add one with --env".into(),
+            ));
+        };
+        if let Some(r) = self.env_rotate {
+            e.rotate_deg = r;
+        }
+        if let Some(i) = self.env_intensity {
+            e.intensity = i;
+        }
+        if matches!(e.sky, Sky::Uniform(_)) && self.env_rotate.is_some() {
+            eprintln!("warning: --env-rotate has no effect on a uniform sky");
+        }
+        Ok(())
+    }
+}
+
+/// `R,G,B` or one number: a uniform sky; anything else: an image file (made absolute, since
+/// the scene's own files are relative to the scene).
+fn parse_sky(value: &str) -> Result<photon::description::Sky, String> {
+    use photon::description::Sky;
+    let numbers: Vec<Result<f32, _>> = value.split(',').map(|p| p.trim().parse::<f32>()).collect();
+    if numbers.iter().all(Result::is_ok) {
+        let n: Vec<f32> = numbers.into_iter().flatten().collect();
+        let rgb = match n[..] {
+            [x] => photon::math::Rgb::splat(x),
+            [r, g, b] => photon::math::Rgb::new(r, g, b),
+            _ => return Err(format!("--env {value}: a colour is R,G,B or one number")),
+        };
+        if !rgb.is_finite() || rgb.min_element() < 0.0 {
+            return Err(format!(
+                "--env {value}: radiance must be finite and not negative"
+            ));
+        }
+        return Ok(Sky::Uniform(rgb));
+    }
+    let path = std::path::Path::new(value);
+    if photon::io::image::EnvironmentFormat::from_path(path).is_none() {
+        return Err(format!(
+            "--env {value}: not a colour R,G,B, nor an image with extension .exr, .hdr or .pfm"
+        ));
+    }
+    if !path.is_file() {
+        return Err(format!("--env {value}: no such file"));
+    }
+    std::path::absolute(path)
+        .map(Sky::File)
+        .map_err(|e| format!("--env {value}: {e}"))
+}
+
 fn print_warnings(warnings: &[String]) {
     for w in warnings {
         eprintln!("warning: {w}");
@@ -120,8 +215,14 @@ fn print_warnings(warnings: &[String]) {
 /// Load a scene by built-in name or file, printing what the loader could not map. Also
 /// returns the seconds it took (reading files, building the BVH).
 pub fn scene(name_or_path: &str) -> Result<(Scene, RenderSpec, f64)> {
+    scene_with(name_or_path, &EnvironmentArgs::default())
+}
+
+/// [`scene`] with the environment light the command line gives or changes.
+pub fn scene_with(name_or_path: &str, env: &EnvironmentArgs) -> Result<(Scene, RenderSpec, f64)> {
     let start = std::time::Instant::now();
-    let (scene, loaded) = load_scene(name_or_path)?;
+    let (scene, loaded) =
+        photon::description::load_scene_edited(name_or_path, |desc| env.apply(desc))?;
     print_warnings(&loaded.warnings);
     Ok((scene, loaded.desc.render, start.elapsed().as_secs_f64()))
 }

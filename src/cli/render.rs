@@ -178,6 +178,8 @@ pub struct RenderArgs {
     /// ppm: render only passes a..b (end exclusive) into a partial file for `photon merge`.
     #[arg(long, value_parser = parse_range)]
     pass_range: Option<(u64, u64)>,
+    #[command(flatten)]
+    env: super::EnvironmentArgs,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
@@ -299,7 +301,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let pool = super::thread_pool(a.threads)?;
         return progressive::resume(cp, budget, a.output.as_deref(), a.quiet, &pool);
     }
-    let (scene, spec, load_seconds) = super::scene(&a.scene)?;
+    let (scene, spec, load_seconds) = super::scene_with(&a.scene, &a.env)?;
     let mut a = a;
     a.apply_scene_settings(&spec)?;
     let a = a;

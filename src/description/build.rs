@@ -4,18 +4,22 @@
 use super::mesh::{self, ImportedMaterial};
 use super::source::Diagnostic;
 use super::{
-    ColorSpec, EmissionSpec, Intensity, LightSpec, MaterialSpec, SceneDesc, ShapeKind, ShapeSpec,
-    compose,
+    ColorSpec, ConductorSpec, DataTexture, EmissionSpec, EnvironmentSpec, Intensity, LightSpec,
+    MaterialSpec, SceneDesc, ShapeKind, ShapeSpec, Sky, compose,
 };
 use crate::camera::CameraDesc;
 use crate::error::{Error, Result};
 use crate::geometry::{Disk, Shape, Sphere};
-use crate::light::SpotLight;
-use crate::material::{Dielectric, Lambertian, Material, Mirror};
+use crate::io::texture::Encoding;
+use crate::light::{EnvironmentLight, SpotLight};
+use crate::material::microfacet::Ggx;
+use crate::material::{
+    Conductor, ConductorFresnel, Dielectric, Lambertian, Material, Mirror, Pbr, RoughDielectric,
+};
 use crate::math::{Rgb, Vec3};
 use crate::modeling::PolyMesh;
 use crate::modeling::pot::{PotParams, pot};
-use crate::scene::{Emission, Scene, SceneBuilder, TriangleMesh};
+use crate::scene::{Emission, Scene, SceneBuilder, TextureMaps, TriangleMesh};
 use crate::texture::{Checker, Texture};
 use glam::Affine3A;
 use std::collections::HashMap;
@@ -103,6 +107,9 @@ pub fn build_with(desc: &SceneDesc, cache: &mut MeshCache) -> Result<Scene> {
                 b.directional_light(*direction, *irradiance);
             }
             LightSpec::Area(shape) => add_shape(&mut b, &mut ctx, shape)?,
+            LightSpec::Environment(e) => {
+                b.environment_light(environment_light(e, ctx.base_dir)?);
+            }
         }
     }
     b.build()
@@ -142,24 +149,7 @@ impl Context<'_> {
 fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> Result<u32> {
     Ok(match spec {
         MaterialSpec::Diffuse { albedo } => {
-            let (constant, texture) = match albedo {
-                ColorSpec::Constant(c) => (*c, None),
-                ColorSpec::Image { file, tint } => {
-                    let t = crate::io::texture::read_texture(&base_dir.join(file))?;
-                    (*tint, Some(Texture::Image(Arc::new(t))))
-                }
-                ColorSpec::Decoded { texture, tint } => {
-                    (*tint, Some(Texture::Image(texture.0.clone())))
-                }
-                ColorSpec::Checker { even, odd, scale } => (
-                    Rgb::ONE,
-                    Some(Texture::Checker(Checker {
-                        even: *even,
-                        odd: *odd,
-                        scale: *scale,
-                    })),
-                ),
-            };
+            let (constant, texture) = color(albedo, base_dir)?;
             let m = Material::Lambertian(Lambertian { albedo: constant });
             match texture {
                 Some(t) => b.textured_material(m, t)?,
@@ -169,12 +159,92 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
         MaterialSpec::Mirror { reflectance } => b.material(Material::Mirror(Mirror {
             reflectance: *reflectance,
         })),
-        MaterialSpec::Glass { ior, transmittance } => {
-            b.material(Material::Dielectric(Dielectric {
+        MaterialSpec::Glass {
+            ior,
+            transmittance,
+            alpha,
+        } => b.material(if *alpha > 0.0 {
+            Material::RoughDielectric(RoughDielectric {
+                ior: *ior,
+                ggx: Ggx::isotropic(*alpha),
+                transmittance: *transmittance,
+            })
+        } else {
+            Material::Dielectric(Dielectric {
                 ior: *ior,
                 transmittance: *transmittance,
+            })
+        }),
+        MaterialSpec::Conductor { fresnel, alpha } => {
+            let fresnel = match *fresnel {
+                ConductorSpec::Metal(m) => {
+                    let (eta, k) = m.ior();
+                    ConductorFresnel::Complex { eta, k }
+                }
+                ConductorSpec::Ior { eta, k } => ConductorFresnel::Complex { eta, k },
+                ConductorSpec::F0(f0) => ConductorFresnel::Schlick { f0 },
+            };
+            b.material(Material::Conductor(Conductor {
+                ggx: Ggx {
+                    alpha_x: alpha[0],
+                    alpha_y: alpha[1],
+                },
+                fresnel,
             }))
         }
+        MaterialSpec::Pbr(p) => {
+            let (base, texture) = color(&p.base_color, base_dir)?;
+            let data = |t: &DataTexture| -> Result<Texture> {
+                Ok(Texture::Image(match t {
+                    DataTexture::File(f) => Arc::new(crate::io::texture::read_texture_as(
+                        &base_dir.join(f),
+                        Encoding::Linear,
+                    )?),
+                    DataTexture::Decoded(d) => d.0.clone(),
+                }))
+            };
+            let maps = TextureMaps {
+                base: texture,
+                metallic_roughness: p.metallic_roughness.as_ref().map(data).transpose()?,
+                normal: match &p.normal_map {
+                    Some((t, scale)) => Some((data(t)?, *scale)),
+                    None => None,
+                },
+            };
+            b.material_with_maps(Material::Pbr(Pbr::new(base, p.metallic, p.roughness)), maps)?
+        }
+    })
+}
+
+/// A colour spec as a constant and an optional texture that multiplies it.
+fn color(spec: &ColorSpec, base_dir: &Path) -> Result<(Rgb, Option<Texture>)> {
+    Ok(match spec {
+        ColorSpec::Constant(c) => (*c, None),
+        ColorSpec::Image { file, tint } => {
+            let t = crate::io::texture::read_texture(&base_dir.join(file))?;
+            (*tint, Some(Texture::Image(Arc::new(t))))
+        }
+        ColorSpec::Decoded { texture, tint } => (*tint, Some(Texture::Image(texture.0.clone()))),
+        ColorSpec::Checker { even, odd, scale } => (
+            Rgb::ONE,
+            Some(Texture::Checker(Checker {
+                even: *even,
+                odd: *odd,
+                scale: *scale,
+            })),
+        ),
+    })
+}
+
+/// The environment light of a spec, reading its image.
+fn environment_light(e: &EnvironmentSpec, base_dir: &Path) -> Result<EnvironmentLight> {
+    Ok(match &e.sky {
+        Sky::Uniform(r) => EnvironmentLight::uniform(*r * e.intensity),
+        Sky::File(f) => EnvironmentLight::image(
+            Arc::new(crate::io::image::read_environment(&base_dir.join(f))?),
+            Rgb::splat(e.intensity),
+            e.rotate_deg,
+        ),
     })
 }
 

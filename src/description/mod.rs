@@ -89,11 +89,66 @@ pub enum MaterialSpec {
     Mirror {
         reflectance: Rgb,
     },
-    /// Smooth dielectric (Fresnel reflection and refraction).
+    /// Dielectric: smooth (`alpha` 0: Fresnel reflection and refraction) or rough (GGX).
     Glass {
         ior: f32,
         transmittance: Rgb,
+        alpha: f32,
     },
+    /// GGX metal; `alpha` along the shading frame's two tangents (equal: isotropic).
+    Conductor {
+        fresnel: ConductorSpec,
+        alpha: [f32; 2],
+    },
+    /// The glTF 2.0 metallic-roughness material.
+    Pbr(PbrSpec),
+}
+
+/// How a conductor reflects: a named metal, a complex index of refraction, or an F0 colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConductorSpec {
+    Metal(crate::material::Metal),
+    Ior { eta: Rgb, k: Rgb },
+    F0(Rgb),
+}
+
+/// glTF's metallic-roughness parameters and textures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PbrSpec {
+    pub base_color: ColorSpec,
+    pub metallic: f32,
+    /// Perceptual: GGX α = roughness².
+    pub roughness: f32,
+    /// Linear texture: blue multiplies `metallic`, green `roughness`.
+    pub metallic_roughness: Option<DataTexture>,
+    /// Tangent-space normal map and the scale of its x and y.
+    pub normal_map: Option<(DataTexture, f32)>,
+}
+
+/// A texture holding data, not colour (read without sRGB decoding).
+#[derive(Clone, Debug, PartialEq)]
+pub enum DataTexture {
+    File(PathBuf),
+    /// Already in memory (glTF embedded images); never written to TOML.
+    Decoded(SharedTexture),
+}
+
+/// Light from every direction (see [`crate::light::EnvironmentLight`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentSpec {
+    pub sky: Sky,
+    /// Multiplies the sky.
+    pub intensity: f32,
+    /// Degrees about +y.
+    pub rotate_deg: f32,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Sky {
+    /// Uniform radiance, W·m⁻²·sr⁻¹.
+    Uniform(Rgb),
+    /// An equirectangular image (OpenEXR, Radiance HDR or PFM), linear radiance.
+    File(PathBuf),
 }
 
 /// A colour: constant, or a texture (times a constant tint).
@@ -249,6 +304,8 @@ pub enum LightSpec {
     Directional { direction: Vec3, irradiance: Rgb },
     /// An emissive shape (disk, quad, sphere, mesh …).
     Area(ShapeSpec),
+    /// The sky: light from every direction, at most one per scene.
+    Environment(EnvironmentSpec),
 }
 
 /// How bright a point or spot light is: intensity in W/sr, or total power in W.
@@ -273,6 +330,21 @@ impl SceneDesc {
     }
 
     /// Add a named material; returns its name for use in shapes.
+    /// The scene's environment light, if it has one.
+    pub fn environment_mut(&mut self) -> Option<&mut EnvironmentSpec> {
+        self.lights.iter_mut().find_map(|l| match l {
+            LightSpec::Environment(e) => Some(e),
+            _ => None,
+        })
+    }
+
+    /// Add an environment light, replacing the scene's own if it has one.
+    pub fn set_environment(&mut self, e: EnvironmentSpec) {
+        self.lights
+            .retain(|l| !matches!(l, LightSpec::Environment(_)));
+        self.lights.push(LightSpec::Environment(e));
+    }
+
     pub fn material(&mut self, name: &str, spec: MaterialSpec) -> String {
         self.materials.push((name.to_owned(), spec));
         name.to_owned()
@@ -343,7 +415,17 @@ pub fn load(name_or_path: &str) -> Result<Loaded> {
 /// A scene read from a file is named by the file's absolute path, which is what checkpoints
 /// and photon-map files record to find it again.
 pub fn load_scene(name_or_path: &str) -> Result<(Scene, Loaded)> {
+    load_scene_edited(name_or_path, |_| Ok(()))
+}
+
+/// [`load_scene`], with the description changed by `edit` before it is built (the CLI's
+/// `--env`).
+pub fn load_scene_edited(
+    name_or_path: &str,
+    edit: impl FnOnce(&mut SceneDesc) -> Result<()>,
+) -> Result<(Scene, Loaded)> {
     let mut loaded = load(name_or_path)?;
+    edit(&mut loaded.desc)?;
     let mut scene = build::build_with(&loaded.desc, &mut loaded.meshes)?;
     if !builtin::BUILTINS.iter().any(|b| b.name == name_or_path) {
         let path = Path::new(name_or_path);

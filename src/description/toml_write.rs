@@ -3,8 +3,8 @@
 //! `f32`, so a written scene renders bit-identically.
 
 use super::{
-    ColorSpec, EmissionSpec, Intensity, LightSpec, MaterialSpec, SceneDesc, ShapeKind, ShapeSpec,
-    TransformStep,
+    ColorSpec, ConductorSpec, DataTexture, EmissionSpec, Intensity, LightSpec, MaterialSpec,
+    SceneDesc, ShapeKind, ShapeSpec, Sky, TransformStep,
 };
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -44,10 +44,52 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 w.kv("type", "\"mirror\"");
                 w.kv("reflectance", &vec3(*reflectance));
             }
-            MaterialSpec::Glass { ior, transmittance } => {
+            MaterialSpec::Glass {
+                ior,
+                transmittance,
+                alpha,
+            } => {
                 w.kv("type", "\"glass\"");
                 w.kv("ior", &float(*ior));
                 w.kv("transmittance", &vec3(*transmittance));
+                if *alpha > 0.0 {
+                    w.kv("alpha", &float(*alpha));
+                }
+            }
+            MaterialSpec::Conductor { fresnel, alpha } => {
+                w.kv("type", "\"conductor\"");
+                match fresnel {
+                    ConductorSpec::Metal(m) => w.kv("metal", &string(m.name())),
+                    ConductorSpec::Ior { eta, k } => {
+                        w.kv("eta", &vec3(*eta));
+                        w.kv("k", &vec3(*k));
+                    }
+                    ConductorSpec::F0(f0) => w.kv("f0", &vec3(*f0)),
+                }
+                if alpha[0] == alpha[1] {
+                    w.kv("alpha", &float(alpha[0]));
+                } else {
+                    w.kv(
+                        "alpha",
+                        &format!("[{}, {}]", float(alpha[0]), float(alpha[1])),
+                    );
+                }
+            }
+            MaterialSpec::Pbr(p) => {
+                w.kv("type", "\"pbr\"");
+                let base = w.color_spec(&p.base_color)?;
+                w.kv("base_color", &base);
+                w.kv("metallic", &float(p.metallic));
+                w.kv("roughness", &float(p.roughness));
+                if let Some(t) = &p.metallic_roughness {
+                    let v = w.data_texture(t)?;
+                    w.kv("metallic_roughness", &v);
+                }
+                if let Some((t, scale)) = &p.normal_map {
+                    let v = w.data_texture(t)?;
+                    w.kv("normal_map", &v);
+                    w.kv("normal_scale", &float(*scale));
+                }
             }
         }
     }
@@ -89,9 +131,27 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 w.kv("irradiance", &vec3(*irradiance));
             }
             LightSpec::Area(s) => w.shape(s, true),
+            LightSpec::Environment(e) => {
+                w.kv("type", "\"environment\"");
+                match &e.sky {
+                    Sky::Uniform(r) => w.kv("radiance", &vec3(*r)),
+                    Sky::File(f) => {
+                        let v = w.path(f);
+                        w.kv("file", &v);
+                    }
+                }
+                w.kv("intensity", &float(e.intensity));
+                w.kv("rotate", &float(e.rotate_deg));
+            }
         }
     }
     Ok(w.out)
+}
+
+fn embedded_texture() -> Error {
+    Error::InvalidScene(
+        "a texture embedded in a glTF file cannot be written to a TOML scene; include the glTF file as a mesh instead".into(),
+    )
 }
 
 struct Writer {
@@ -211,12 +271,15 @@ impl Writer {
                 float(scale.x),
                 float(scale.y)
             ),
-            ColorSpec::Decoded { .. } => {
-                return Err(Error::InvalidScene(
-                    "a texture embedded in a glTF file cannot be written to a TOML scene; include the glTF file as a mesh instead".into(),
-                ));
-            }
+            ColorSpec::Decoded { .. } => return Err(embedded_texture()),
         })
+    }
+
+    fn data_texture(&self, t: &DataTexture) -> Result<String> {
+        match t {
+            DataTexture::File(f) => Ok(self.path(f)),
+            DataTexture::Decoded(_) => Err(embedded_texture()),
+        }
     }
 
     fn intensity(&mut self, i: &Intensity) {

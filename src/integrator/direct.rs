@@ -3,6 +3,7 @@
 //! samples per area light, and mirror and glass followed recursively. No indirect diffuse light.
 
 use super::{RayStats, Sample, ShadingPoint, own_light_pdf_for_hit, power_heuristic, shadowed};
+use crate::light::{EnvironmentLight, Light};
 use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
@@ -81,7 +82,8 @@ struct Branch {
 
 fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk) -> Rgb {
     let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
-        return Rgb::ZERO;
+        // Seen from the camera or along delta lobes: no light sample could have found it.
+        return scene.escaped(ray.dir);
     };
     let wo = -ray.dir;
     let mut l = scene.emitted(&hit, wo);
@@ -116,13 +118,25 @@ pub(crate) fn direct_light(
     rng: &mut Rng,
     stats: &mut RayStats,
 ) -> Rgb {
-    let mis = continued.filter(|_| sp.material.has(Part::Smooth));
+    let m = &sp.material;
+    let mis = continued.filter(|_| m.has(Part::Smooth));
+    let has_smooth = m.has(Part::Smooth);
+    // A sky is also found by sampling the rough part of the BSDF (cosine-distributed on
+    // diffuse surfaces), which beats sampling the sky where the BSDF is the narrower factor.
+    // The rough and smooth parts are two integrals, each with its own MIS: the rough part's
+    // light and BSDF samples against each other, the smooth part's light samples against the
+    // walk's continuation.
+    let sample_sky_by_bsdf = m.has(Part::Rough);
     let mut sum = Rgb::ZERO;
     for light in scene.lights() {
         let n = if light.is_delta() {
             1
         } else {
             c.light_samples.max(1)
+        };
+        let sky = match light {
+            Light::Environment(e) if sample_sky_by_bsdf => Some(e),
+            _ => None,
         };
         let mut acc = Rgb::ZERO;
         for _ in 0..n {
@@ -131,22 +145,61 @@ pub(crate) fn direct_light(
                 continue;
             };
             let wi = sp.frame.to_local(ls.wi);
-            let m = &sp.material;
-            let f = match mis {
-                Some(p_continue) if !ls.is_delta => {
-                    let p_bsdf = p_continue * m.pdf_part(sp.wo_local, wi, Part::Smooth);
-                    let smooth =
-                        m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Smooth);
-                    m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Rough)
-                        + smooth * power_heuristic(n as f32 * ls.pdf, p_bsdf)
-                }
-                _ => m.eval(sp.wo_local, wi, TransportMode::Radiance),
-            };
+            let mut f = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Rough);
+            if sky.is_some() {
+                f *= power_heuristic(ls.pdf, m.pdf_part(sp.wo_local, wi, Part::Rough));
+            }
+            if has_smooth {
+                let smooth = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Smooth);
+                f += match mis {
+                    Some(p_continue) if !ls.is_delta => {
+                        let p_bsdf = p_continue * m.pdf_part(sp.wo_local, wi, Part::Smooth);
+                        smooth * power_heuristic(n as f32 * ls.pdf, p_bsdf)
+                    }
+                    _ => smooth,
+                };
+            }
             acc += shadowed(scene, sp, &ls, f, stats);
+        }
+        if let Some(sky) = sky {
+            for _ in 0..n {
+                acc += sky_by_bsdf(scene, sp, sky, rng, stats);
+            }
         }
         sum += acc / n as f32;
     }
     sum
+}
+
+/// One sample of the rough part toward the sky, weighted by the power heuristic against
+/// sampling the sky.
+fn sky_by_bsdf(
+    scene: &Scene,
+    sp: &ShadingPoint,
+    sky: &EnvironmentLight,
+    rng: &mut Rng,
+    stats: &mut RayStats,
+) -> Rgb {
+    let u_lobe = rng.next_f32();
+    let Some(s) = sp.material.sample_part(
+        sp.wo_local,
+        u_lobe,
+        rng.next_2d(),
+        TransportMode::Radiance,
+        Part::Rough,
+    ) else {
+        return Rgb::ZERO;
+    };
+    let wi = sp.frame.to_world(s.wi);
+    let l = sky.radiance(wi);
+    if l == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    stats.shadow += 1;
+    if scene.occluded(offset_origin(sp.hit.p, sp.hit.ng, wi), wi, f32::INFINITY) {
+        return Rgb::ZERO;
+    }
+    s.weight * l * power_heuristic(s.pdf, sky.pdf(wi))
 }
 
 /// The MIS weight of emission found by sampling the smooth part of the previous vertex (with
@@ -160,6 +213,23 @@ pub(crate) fn emission_weight(
 ) -> f32 {
     let p_light = own_light_pdf_for_hit(scene, from, hit);
     power_heuristic(p_bsdf, c.light_samples.max(1) as f32 * p_light)
+}
+
+/// Light from the environment along a ray that left the scene, weighted like
+/// [`emission_weight`] when it left by sampling a glossy smooth lobe with density `p_bsdf`.
+pub(crate) fn escaped_radiance(
+    c: &DirectConfig,
+    scene: &Scene,
+    dir: Vec3,
+    p_bsdf: Option<f32>,
+) -> Rgb {
+    let Some((_, env)) = scene.environment() else {
+        return Rgb::ZERO;
+    };
+    let w = p_bsdf.map_or(1.0, |p| {
+        power_heuristic(p, c.light_samples.max(1) as f32 * env.pdf(dir))
+    });
+    env.radiance(dir) * w
 }
 
 /// Follow the delta lobes: every branch up to `split_depth`, one chosen by the BSDF beyond.

@@ -95,8 +95,7 @@ pub(crate) struct ShadingPoint<'a> {
 
 impl<'a> ShadingPoint<'a> {
     pub fn new(scene: &'a Scene, hit: &'a Hit, wo: Vec3) -> Self {
-        let material = scene.material_at(hit);
-        let frame = hit.frame(&material, wo);
+        let (material, frame) = scene.surface(hit, wo);
         Self {
             hit,
             material,

@@ -47,6 +47,14 @@ pub(super) fn radiance(
             stats.bounce += 1;
         }
         let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
+            if let Some((i, env)) = scene.environment() {
+                let w = if prev_specular {
+                    1.0
+                } else {
+                    power_heuristic(prev_pdf, scene.light_choice_pmf(i) * env.pdf(ray.dir))
+                };
+                l += beta * env.radiance(ray.dir) * w;
+            }
             break;
         };
         let wo = -ray.dir;

@@ -18,7 +18,7 @@
 //!   meets a light adds nothing (that light is direct or caustic). With `gather_rays = 0` the
 //!   global map is read at x instead, leaving out its direct photons.
 
-use super::direct::{DirectConfig, direct_light, emission_weight};
+use super::direct::{DirectConfig, direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::{Lobes, Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
@@ -178,11 +178,12 @@ impl PhotonIntegrator {
         stats: &mut RayStats,
     ) -> Sample {
         let mut out = Sample::default();
+        let dc = self.direct_config();
         let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
+            out.direct = escaped_radiance(&dc, scene, ray.dir, at.arrival.map(|a| a.1));
             return out;
         };
         let wo = -ray.dir;
-        let dc = self.direct_config();
         out.direct = scene.emitted(&hit, wo);
         if let Some((from, p_bsdf)) = at.arrival
             && out.direct != Rgb::ZERO
@@ -382,8 +383,7 @@ impl PhotonIntegrator {
                 return l;
             };
             let wo = -ray.dir;
-            let material = scene.material_at(&hit);
-            let frame: Frame = hit.frame(&material, wo);
+            let (material, frame) = scene.surface(&hit, wo);
             let wo_local = frame.to_local(wo);
             if material.has(Part::Rough) {
                 l += weight * self.reflected_at(&hit, &frame, wo_local, &material);

@@ -1,7 +1,7 @@
 //! Camera paths to their first rough surface: the "visible points" of progressive photon
 //! mapping (Hachisuka et al. 2008), with the light that needs no photons gathered on the way.
 
-use super::direct::{DirectConfig, direct_light, emission_weight};
+use super::direct::{DirectConfig, direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, ShadingPoint};
 use crate::material::{Material, Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
@@ -55,6 +55,7 @@ pub fn trace_camera_path(
     stats.camera += 1;
     for depth in 0..=max_depth {
         let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
+            out.direct += beta * escaped_radiance(&c, scene, ray.dir, arrival.map(|a| a.1));
             return out;
         };
         distance += hit.t;

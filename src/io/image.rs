@@ -286,6 +286,93 @@ pub fn read_image(path: &Path) -> Result<Image> {
     }
 }
 
+/// Formats an environment map may have.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnvironmentFormat {
+    Exr,
+    Hdr,
+    Pfm,
+}
+
+impl EnvironmentFormat {
+    pub fn from_path(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "exr" => Some(Self::Exr),
+            "hdr" => Some(Self::Hdr),
+            "pfm" => Some(Self::Pfm),
+            _ => None,
+        }
+    }
+}
+
+/// Largest environment map accepted, in pixels (16k × 8k).
+pub const MAX_ENVIRONMENT_PIXELS: u64 = 1 << 27;
+
+/// Read an equirectangular environment map: OpenEXR, Radiance HDR (RGBE) or PFM, linear RGB,
+/// top row first. Negative and non-finite values are errors, not light.
+pub fn read_environment(path: &Path) -> Result<crate::light::EnvironmentMap> {
+    let format =
+        EnvironmentFormat::from_path(path).ok_or_else(|| unsupported(path, ".exr, .hdr, .pfm"))?;
+    let bad = |message: String| Error::BadImage {
+        path: path.to_owned(),
+        message,
+    };
+    let image = match format {
+        EnvironmentFormat::Exr | EnvironmentFormat::Pfm => read_image(path)?,
+        EnvironmentFormat::Hdr => {
+            let bytes = fs::read(path).map_err(|source| Error::Read {
+                path: path.to_owned(),
+                source,
+            })?;
+            let mut reader = image::ImageReader::with_format(
+                std::io::Cursor::new(&bytes),
+                image::ImageFormat::Hdr,
+            );
+            let mut limits = image::Limits::default();
+            limits.max_alloc = Some(MAX_ENVIRONMENT_PIXELS * 16);
+            reader.limits(limits);
+            let decoded = reader
+                .decode()
+                .map_err(|e| bad(format!("not a readable Radiance HDR image: {e}")))?
+                .to_rgb32f();
+            Image {
+                width: decoded.width(),
+                height: decoded.height(),
+                pixels: decoded
+                    .pixels()
+                    .map(|p| Rgb::new(p[0], p[1], p[2]))
+                    .collect(),
+            }
+        }
+    };
+    if image.width == 0 || image.height == 0 {
+        return Err(bad("the image is empty".into()));
+    }
+    if u64::from(image.width) * u64::from(image.height) > MAX_ENVIRONMENT_PIXELS {
+        return Err(bad(format!(
+            "{}×{} pixels is more than the {MAX_ENVIRONMENT_PIXELS} an environment map may have",
+            image.width, image.height
+        )));
+    }
+    if let Some(i) = image
+        .pixels
+        .iter()
+        .position(|p| !p.is_finite() || p.min_element() < 0.0)
+    {
+        let (x, y) = (i as u32 % image.width, i as u32 / image.width);
+        return Err(bad(format!(
+            "pixel ({x}, {y}) is {}: radiance must be finite and not negative",
+            image.pixels[i]
+        )));
+    }
+    Ok(crate::light::EnvironmentMap {
+        width: image.width,
+        height: image.height,
+        texels: image.pixels,
+    })
+}
+
 fn parse_pfm(data: &[u8]) -> Result<Image, String> {
     // Header: three whitespace-separated tokens after the magic, then one whitespace byte.
     let mut tokens = Vec::new();

@@ -18,8 +18,22 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
+/// How a texture's 8-bit values map to the numbers it holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// Colours, as painted: sRGB-encoded.
+    Srgb,
+    /// Data (normal maps, metallic-roughness): values / 255 as they are.
+    Linear,
+}
+
 /// Decode an sRGB-encoded colour texture from memory; `name` is used in error messages.
 pub fn decode_texture(bytes: &[u8], name: &Path) -> Result<ImageTexture> {
+    decode_texture_as(bytes, name, Encoding::Srgb)
+}
+
+/// Decode a texture from memory with the given encoding.
+pub fn decode_texture_as(bytes: &[u8], name: &Path, encoding: Encoding) -> Result<ImageTexture> {
     let bad = |message: String| Error::BadImage {
         path: name.to_owned(),
         message,
@@ -46,7 +60,10 @@ pub fn decode_texture(bytes: &[u8], name: &Path) -> Result<ImageTexture> {
     let rgb = decoded.to_rgb8();
     // 256-entry table: the same decode for every texel, cheap.
     let table: Vec<f32> = (0..=255u8)
-        .map(|v| srgb_to_linear(f32::from(v) / 255.0))
+        .map(|v| match encoding {
+            Encoding::Srgb => srgb_to_linear(f32::from(v) / 255.0),
+            Encoding::Linear => f32::from(v) / 255.0,
+        })
         .collect();
     let texels = rgb
         .pixels()
@@ -67,11 +84,16 @@ pub fn decode_texture(bytes: &[u8], name: &Path) -> Result<ImageTexture> {
 
 /// Read a colour texture from a PNG or JPEG file.
 pub fn read_texture(path: &Path) -> Result<ImageTexture> {
+    read_texture_as(path, Encoding::Srgb)
+}
+
+/// Read a PNG or JPEG texture with the given encoding.
+pub fn read_texture_as(path: &Path, encoding: Encoding) -> Result<ImageTexture> {
     let bytes = std::fs::read(path).map_err(|source| Error::Read {
         path: path.to_owned(),
         source,
     })?;
-    decode_texture(&bytes, path)
+    decode_texture_as(&bytes, path, encoding)
 }
 
 #[cfg(test)]

@@ -208,11 +208,12 @@ impl EnvironmentLight {
     }
 }
 
-/// Bilinear lookup with pixel centres at half-integers, wrapping in u and clamped in v.
+/// Bilinear lookup as Mitsuba 3's `envmap` does it: columns centred at (i + ½)/w and wrapping,
+/// rows at v = j/(h − 1), so the first row is the zenith and the last the nadir.
 fn bilinear(map: &EnvironmentMap, uv: Vec2) -> Rgb {
     let (w, h) = (map.width as i64, map.height as i64);
     let x = uv.x * w as f32 - 0.5;
-    let y = uv.y * h as f32 - 0.5;
+    let y = uv.y * (h - 1).max(1) as f32;
     if !(x.is_finite() && y.is_finite()) {
         return Rgb::ZERO;
     }

@@ -22,6 +22,8 @@ const DIELECTRIC_F0: f32 = 0.04;
 pub struct Pbr {
     pub base_color: Rgb,
     pub metallic: f32,
+    /// Perceptual roughness, as glTF's factor.
+    pub roughness: f32,
     /// GGX of α = roughness² (isotropic).
     pub ggx: Ggx,
 }
@@ -40,6 +42,7 @@ impl Pbr {
         Self {
             base_color,
             metallic: metallic.clamp(0.0, 1.0),
+            roughness: r,
             ggx: Ggx::isotropic(r * r),
         }
     }

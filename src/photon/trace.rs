@@ -139,7 +139,7 @@ pub fn trace_photons(
     let global_photons = config.global_photons.unwrap_or(config.photons);
     if lights.is_empty() || total_max.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::InvalidScene(
-            "the scene emits no light, so there are no photons to trace".into(),
+            "the scene emits no light, so there are no photons to trace (light it with a sky: --env R,G,B or --env FILE.exr, or a [[lights]] table)".into(),
         ));
     }
     let chunks_per_channel = config.photons.div_ceil(CHUNK);
@@ -259,8 +259,7 @@ fn trace_one(
             return;
         };
         let wo = -ray.dir;
-        let material = scene.material_at(&hit);
-        let frame = hit.frame(&material, wo);
+        let (material, frame) = scene.surface(&hit, wo);
         if material.has(Part::Rough) {
             let photon = Photon::new(hit.p, frame.n, wo, power, depth, channel);
             if depth > 1 && specular_only {

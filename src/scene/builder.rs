@@ -1,4 +1,4 @@
-use super::{NO_LIGHT, Scene, TriangleMesh};
+use super::{MaterialMaps, NO_LIGHT, Scene, TriangleMesh};
 use crate::accel::Bvh;
 use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
@@ -27,11 +27,22 @@ struct Object {
     emission: Option<Emission>,
 }
 
+/// The textures a material may carry (see [`SceneBuilder::material_with_maps`]).
+#[derive(Clone, Debug, Default)]
+pub struct TextureMaps {
+    /// Multiplies the albedo or base colour (sRGB-decoded).
+    pub base: Option<Texture>,
+    /// glTF's packing, linear: blue multiplies metallic, green roughness.
+    pub metallic_roughness: Option<Texture>,
+    /// Tangent-space normals (linear, 2·value − 1) and the scale of their x and y.
+    pub normal: Option<(Texture, f32)>,
+}
+
 /// Collects objects, materials and lights, then validates them into a [`Scene`].
 pub struct SceneBuilder {
     name: String,
     materials: Vec<Material>,
-    material_textures: Vec<Option<u32>>,
+    material_textures: Vec<MaterialMaps>,
     textures: Vec<Texture>,
     objects: Vec<Object>,
     lights: Vec<Light>,
@@ -61,22 +72,51 @@ impl SceneBuilder {
 
     pub fn material(&mut self, m: Material) -> u32 {
         self.materials.push(m);
-        self.material_textures.push(None);
+        self.material_textures.push(MaterialMaps::default());
         (self.materials.len() - 1) as u32
     }
 
-    /// A material whose albedo is multiplied by `texture` at each hit's (u, v). Only diffuse
-    /// materials have a texturable albedo.
+    /// A material whose albedo (diffuse) or base colour (pbr) is multiplied by `texture` at
+    /// each hit's (u, v).
     pub fn textured_material(&mut self, m: Material, texture: Texture) -> Result<u32> {
-        if !matches!(m, Material::Lambertian(_)) {
+        self.material_with_maps(
+            m,
+            TextureMaps {
+                base: Some(texture),
+                ..TextureMaps::default()
+            },
+        )
+    }
+
+    /// A material with textures: a base colour (diffuse and pbr), a metallic-roughness map and
+    /// a tangent-space normal map (pbr).
+    pub fn material_with_maps(&mut self, m: Material, maps: TextureMaps) -> Result<u32> {
+        let is_pbr = matches!(m, Material::Pbr(_));
+        if maps.base.is_some() && !(is_pbr || matches!(m, Material::Lambertian(_))) {
             return Err(Error::InvalidScene(
-                "only diffuse materials take a texture".into(),
+                "only diffuse and pbr materials take a colour texture".into(),
             ));
         }
-        self.textures.push(texture);
+        if (maps.metallic_roughness.is_some() || maps.normal.is_some()) && !is_pbr {
+            return Err(Error::InvalidScene(
+                "only pbr materials take metallic-roughness and normal maps".into(),
+            ));
+        }
+        let mut push = |t: Option<Texture>| {
+            t.map(|t| {
+                self.textures.push(t);
+                (self.textures.len() - 1) as u32
+            })
+        };
+        let normal_scale = maps.normal.as_ref().map_or(1.0, |n| n.1);
+        let ids = MaterialMaps {
+            base: push(maps.base),
+            metallic_roughness: push(maps.metallic_roughness),
+            normal: push(maps.normal.map(|n| n.0)),
+            normal_scale,
+        };
         self.materials.push(m);
-        self.material_textures
-            .push(Some((self.textures.len() - 1) as u32));
+        self.material_textures.push(ids);
         Ok((self.materials.len() - 1) as u32)
     }
 

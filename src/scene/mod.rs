@@ -5,7 +5,7 @@
 
 mod builder;
 
-pub use builder::{Emission, SceneBuilder};
+pub use builder::{Emission, SceneBuilder, TextureMaps};
 
 /// An indexed triangle mesh in object space, as read from a file or built in code. `normals`
 /// and `uvs` are per vertex and may be empty (flat shading, the triangle's own parametrisation).
@@ -21,10 +21,19 @@ use crate::accel::Bvh;
 use crate::camera::CameraDesc;
 use crate::geometry::{Bounds, Shape};
 use crate::light::{EnvironmentLight, Light};
-use crate::material::Material;
+use crate::material::{Material, Pbr};
 use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
 use crate::texture::Texture;
+
+/// Indices of a material's textures in the scene's texture list.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct MaterialMaps {
+    pub base: Option<u32>,
+    pub metallic_roughness: Option<u32>,
+    pub normal: Option<u32>,
+    pub normal_scale: f32,
+}
 
 /// Marks a primitive that is not part of an area light.
 pub const NO_LIGHT: u32 = u32::MAX;
@@ -74,8 +83,8 @@ pub struct Scene {
     prim_uvs: Vec<u32>,
     vertex_uvs: Vec<[Vec2; 3]>,
     materials: Vec<Material>,
-    /// Texture multiplying each material's albedo, if any (parallel to `materials`).
-    material_textures: Vec<Option<u32>>,
+    /// The textures of each material (parallel to `materials`).
+    material_textures: Vec<MaterialMaps>,
     textures: Vec<Texture>,
     lights: Vec<Light>,
     light_choice: Option<Distribution1D>,
@@ -152,17 +161,82 @@ impl Scene {
         &self.materials[id as usize]
     }
 
-    /// The material at a hit, with any texture looked up at the hit's (u, v).
+    /// The material at a hit, with its textures looked up at the hit's (u, v).
     #[inline]
     pub fn material_at(&self, hit: &Hit) -> Material {
         let m = self.materials[hit.material as usize];
-        match (m, self.material_textures[hit.material as usize]) {
-            (Material::Lambertian(mut l), Some(t)) => {
-                l.albedo *= self.textures[t as usize].eval(self.texture_uv(hit));
+        let maps = &self.material_textures[hit.material as usize];
+        if maps.base.is_none() && maps.metallic_roughness.is_none() {
+            return m;
+        }
+        let uv = self.texture_uv(hit);
+        let base = maps
+            .base
+            .map_or(Rgb::ONE, |t| self.textures[t as usize].eval(uv));
+        match m {
+            Material::Lambertian(mut l) => {
+                l.albedo *= base;
                 Material::Lambertian(l)
+            }
+            Material::Pbr(p) => {
+                let (mut metallic, mut roughness) = (p.metallic, p.roughness);
+                if let Some(t) = maps.metallic_roughness {
+                    let mr = self.textures[t as usize].eval(uv);
+                    metallic *= mr.z;
+                    roughness *= mr.y;
+                }
+                Material::Pbr(Pbr::new(p.base_color * base, metallic, roughness))
             }
             _ => m,
         }
+    }
+
+    /// The material at a hit and its shading frame seen from `wo` (normal-mapped where the
+    /// material has a normal map).
+    #[inline]
+    pub fn surface(&self, hit: &Hit, wo: Vec3) -> (Material, Frame) {
+        let m = self.material_at(hit);
+        let maps = &self.material_textures[hit.material as usize];
+        if let Some(t) = maps.normal
+            && let Some(ns) = self.normal_mapped(hit, t, maps.normal_scale)
+        {
+            let mapped = Hit { ns, ..*hit };
+            return (m, mapped.frame(&m, wo));
+        }
+        (m, hit.frame(&m, wo))
+    }
+
+    /// The shading normal bent by a tangent-space normal map, on triangles with texture
+    /// coordinates. The tangent frame is the triangle's own: the tangent along ∂p/∂u (made
+    /// orthogonal to the interpolated normal), the bitangent along ∂p/∂v (glTF's convention,
+    /// green up, with our v growing up the image). `None` where there is no frame, or where
+    /// the map would turn the normal past the surface.
+    fn normal_mapped(&self, hit: &Hit, texture: u32, scale: f32) -> Option<Vec3> {
+        let Shape::Triangle(tri) = &self.shapes[hit.prim as usize] else {
+            return None;
+        };
+        let k = self.prim_uvs[hit.prim as usize];
+        if k == NO_LIGHT {
+            return None;
+        }
+        let [a, b, c] = self.vertex_uvs[k as usize];
+        let (d1, d2) = (b - a, c - a);
+        let det = d1.x * d2.y - d1.y * d2.x;
+        if det.abs() < 1e-12 {
+            return None;
+        }
+        let dpdu = (tri.e1 * d2.y - tri.e2 * d1.y) / det;
+        let dpdv = (tri.e2 * d1.x - tri.e1 * d2.x) / det;
+        let n = hit.ns;
+        let tangent = (dpdu - n * n.dot(dpdu)).try_normalize()?;
+        let mut bitangent = n.cross(tangent);
+        if bitangent.dot(dpdv) < 0.0 {
+            bitangent = -bitangent;
+        }
+        let t = self.textures[texture as usize].eval(self.texture_uv(hit)) * 2.0 - Rgb::ONE;
+        let mapped =
+            (tangent * (t.x * scale) + bitangent * (t.y * scale) + n * t.z).try_normalize()?;
+        (mapped.dot(hit.ng) > 0.0).then_some(mapped)
     }
 
     /// Texture coordinates at a hit: interpolated vertex UVs on meshes that have them, else

@@ -142,6 +142,7 @@ pub fn desc() -> SceneDesc {
         MaterialSpec::Glass {
             ior: 1.5,
             transmittance: Rgb::ONE,
+            alpha: 0.0,
         },
     );
     let mirror = d.material(

@@ -59,6 +59,7 @@ pub fn desc() -> SceneDesc {
         MaterialSpec::Glass {
             ior: 2.4,
             transmittance: Rgb::ONE,
+            alpha: 0.0,
         },
     );
     let clay = d.diffuse("terracotta", TERRACOTTA);

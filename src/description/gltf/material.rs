@@ -1,9 +1,13 @@
-//! glTF metallic-roughness materials onto ours, and their base-colour textures.
+//! glTF metallic-roughness materials onto ours (`pbr`, or rough glass for transmission), with
+//! their base-colour, metallic-roughness and normal textures.
 
 use super::{Opened, Sink, read_uri};
 use crate::description::mesh::ImportedMaterial;
-use crate::description::{ColorSpec, EmissionSpec, MaterialSpec, SharedTexture};
+use crate::description::{
+    ColorSpec, DataTexture, EmissionSpec, MaterialSpec, PbrSpec, SharedTexture,
+};
 use crate::error::Result;
+use crate::io::texture::Encoding;
 use crate::math::Rgb;
 use crate::texture::ImageTexture;
 use std::path::Path;
@@ -25,11 +29,13 @@ pub(super) fn convert_material(
     if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
         sink.warn("alpha blending and masking are ignored (surfaces are opaque)");
     }
-    if m.normal_texture().is_some() || m.occlusion_texture().is_some() {
-        sink.warn("normal and occlusion maps are ignored");
+    if m.occlusion_texture().is_some() {
+        sink.warn("occlusion maps are ignored (a path tracer finds occlusion itself)");
     }
-    if pbr.metallic_roughness_texture().is_some() {
-        sink.warn("metallic-roughness textures are ignored (their factors are used)");
+    if m.transmission()
+        .is_some_and(|t| t.transmission_texture().is_some())
+    {
+        sink.warn("transmission textures are ignored (the transmission factor is used)");
     }
     let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
     let spec = if m.index().is_none() {
@@ -40,38 +46,51 @@ pub(super) fn convert_material(
         }
     } else if transmission > 0.0 {
         if transmission < 1.0 {
-            sink.warn("partial transmission is rendered as fully transparent glass");
+            sink.warn("partial transmission is rendered as fully transmissive glass");
+        }
+        if m.volume().is_none() {
+            // Blender writes no volume for its glass; its objects are solid all the same.
+            sink.warn("transmissive materials without KHR_materials_volume are rendered as solid glass (refracting), not thin-walled");
         }
         MaterialSpec::Glass {
             ior: m.ior().unwrap_or(1.5),
             transmittance: base,
+            alpha: roughness * roughness,
         }
-    } else if metallic >= 0.5 && roughness < 0.5 {
-        if metallic < 1.0 || roughness > 0.0 {
-            sink.warn(
-                "glossy metals (metallic ≥ 0.5, roughness < 0.5) are rendered as perfect mirrors",
-            );
-        }
-        MaterialSpec::Mirror { reflectance: base }
     } else {
-        if metallic > 0.0 {
-            sink.warn(
-                "rough or partly metallic surfaces are rendered as diffuse with their base colour",
-            );
-        }
-        let albedo = match pbr.base_color_texture() {
-            Some(info) => {
-                if info.tex_coord() != 0 {
-                    sink.warn("textures on texture coordinate sets other than 0 use set 0");
-                }
-                ColorSpec::Decoded {
-                    texture: SharedTexture(texture(g, sink, &info.texture())?),
-                    tint: base,
-                }
-            }
+        let base_color = match pbr.base_color_texture() {
+            Some(info) => ColorSpec::Decoded {
+                texture: SharedTexture(texture(g, sink, &info, Encoding::Srgb)?),
+                tint: base,
+            },
             None => ColorSpec::Constant(base),
         };
-        MaterialSpec::Diffuse { albedo }
+        let metallic_roughness = match pbr.metallic_roughness_texture() {
+            Some(info) => Some(DataTexture::Decoded(SharedTexture(texture(
+                g,
+                sink,
+                &info,
+                Encoding::Linear,
+            )?))),
+            None => None,
+        };
+        let normal_map = match m.normal_texture() {
+            Some(n) => {
+                if n.tex_coord() != 0 {
+                    sink.warn("textures on texture coordinate sets other than 0 use set 0");
+                }
+                let t = texture_of(g, sink, &n.texture(), Encoding::Linear)?;
+                Some((DataTexture::Decoded(SharedTexture(t)), n.scale()))
+            }
+            None => None,
+        };
+        MaterialSpec::Pbr(PbrSpec {
+            base_color,
+            metallic,
+            roughness,
+            metallic_roughness,
+            normal_map,
+        })
     };
     let emitted = Rgb::from_array(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
     if m.emissive_texture().is_some() {
@@ -88,9 +107,32 @@ pub(super) fn convert_material(
     })
 }
 
-fn texture(g: &Opened, sink: &mut Sink, t: &gltf::Texture) -> Result<Arc<ImageTexture>> {
+/// The texture of a texture-info (colour or metallic-roughness), warning about what is not
+/// supported.
+fn texture(
+    g: &Opened,
+    sink: &mut Sink,
+    info: &gltf::texture::Info,
+    encoding: Encoding,
+) -> Result<Arc<ImageTexture>> {
+    if info.tex_coord() != 0 {
+        sink.warn("textures on texture coordinate sets other than 0 use set 0");
+    }
+    if info.texture_transform().is_some() {
+        sink.warn("KHR_texture_transform is ignored (textures are placed without it)");
+    }
+    texture_of(g, sink, &info.texture(), encoding)
+}
+
+fn texture_of(
+    g: &Opened,
+    sink: &mut Sink,
+    t: &gltf::Texture,
+    encoding: Encoding,
+) -> Result<Arc<ImageTexture>> {
     let image = t.source();
-    if let Some(done) = sink.textures.get(&image.index()) {
+    let key = (image.index(), encoding == Encoding::Linear);
+    if let Some(done) = sink.textures.get(&key) {
         return Ok(done.clone());
     }
     let label = g.path.join(format!("images[{}]", image.index()));
@@ -110,7 +152,9 @@ fn texture(g: &Opened, sink: &mut Sink, t: &gltf::Texture) -> Result<Arc<ImageTe
             read_uri(&g.path, &dir, uri)?
         }
     };
-    let decoded = Arc::new(crate::io::texture::decode_texture(&bytes, &label)?);
-    sink.textures.insert(image.index(), decoded.clone());
+    let decoded = Arc::new(crate::io::texture::decode_texture_as(
+        &bytes, &label, encoding,
+    )?);
+    sink.textures.insert(key, decoded.clone());
     Ok(decoded)
 }

@@ -17,7 +17,9 @@ use geometry::read_parts;
 
 use super::mesh::{MeshFile, file_error, read_bytes};
 use super::source::Diagnostic;
-use super::{CameraSpec, Intensity, LightSpec, Loaded, SceneDesc, ShapeKind, ShapeSpec};
+use super::{
+    CameraSpec, EnvironmentSpec, Intensity, LightSpec, Loaded, SceneDesc, ShapeKind, ShapeSpec, Sky,
+};
 use crate::error::{Error, Result};
 use crate::math::{Rgb, Vec3};
 use crate::texture::ImageTexture;
@@ -43,7 +45,8 @@ pub(super) struct Opened {
 pub(super) struct Sink {
     pub path: PathBuf,
     pub warnings: BTreeSet<String>,
-    pub textures: HashMap<usize, Arc<ImageTexture>>,
+    /// Decoded images by (index, linear): colour and data textures decode differently.
+    pub textures: HashMap<(usize, bool), Arc<ImageTexture>>,
 }
 
 impl Sink {
@@ -52,6 +55,10 @@ impl Sink {
             .insert(format!("{}: {message}", self.path.display()));
     }
 }
+
+/// Radiance of the sky that lights a glTF file with no light of its own: white, so that a
+/// surface of albedo ρ open to the whole sky shows about ρ, the look of a viewer's default.
+pub const DEFAULT_SKY_RADIANCE: f32 = 1.0;
 
 /// Import a whole glTF scene: meshes, camera, lights.
 pub fn import_scene(path: &Path) -> Result<Loaded> {
@@ -121,7 +128,14 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
             .iter()
             .any(|p| p.material.as_ref().is_some_and(|m| m.emission.is_some()))
     {
-        sink.warn("the file has no lights and no emissive materials: the image will be black");
+        sink.warn(&format!(
+            "the file has no lights and no emissive materials (Blender keeps its world lighting out of glTF): it is lit by a uniform white sky of radiance {DEFAULT_SKY_RADIANCE}; give your own with --env FILE|R,G,B"
+        ));
+        lights.push(LightSpec::Environment(EnvironmentSpec {
+            sky: Sky::Uniform(Rgb::splat(DEFAULT_SKY_RADIANCE)),
+            intensity: 1.0,
+            rotate_deg: 0.0,
+        }));
     }
     let name = path
         .file_stem()

@@ -94,6 +94,7 @@ fn convert(m: &tobj::Material, warnings: &mut Vec<String>) -> ImportedMaterial {
         Some(4 | 6 | 7 | 9) => MaterialSpec::Glass {
             ior: m.optical_density.unwrap_or(1.5),
             transmittance: Rgb::ONE,
+            alpha: 0.0,
         },
         _ => MaterialSpec::Diffuse {
             albedo: match &m.diffuse_texture {

@@ -10,7 +10,7 @@ mod shapes;
 mod values;
 
 use super::source::Diagnostic;
-use super::{RenderSpec, SceneDesc};
+use super::{LightSpec, RenderSpec, SceneDesc};
 use crate::error::{Error, Result};
 use scene::{camera, material, render};
 use shapes::{light, shape};
@@ -102,7 +102,18 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
     let mut lights = Vec::new();
     for (i, v) in root.array_of_tables("lights")?.into_iter().enumerate() {
         let t = cx.table(v, &format!("light {}", i + 1))?;
-        lights.push(light(&t, &names)?);
+        let l = light(&t, &names)?;
+        if matches!(l, LightSpec::Environment(_))
+            && lights
+                .iter()
+                .any(|l| matches!(l, LightSpec::Environment(_)))
+        {
+            return Err(cx.err(
+                t.span.start..t.span.start + 1,
+                "a scene has at most one environment light; this is the second",
+            ));
+        }
+        lights.push(l);
     }
     Ok(SceneDesc {
         name,

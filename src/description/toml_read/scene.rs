@@ -3,10 +3,12 @@
 use super::values::{Table, Value, array, color, float, floats, integer, str_of};
 use crate::description::source::did_you_mean;
 use crate::description::{
-    CameraSpec, ColorSpec, GATHER_MODES, INTEGRATORS, KERNELS, MaterialSpec, RenderSpec,
+    CameraSpec, ColorSpec, ConductorSpec, DataTexture, GATHER_MODES, INTEGRATORS, KERNELS,
+    MaterialSpec, PbrSpec, RenderSpec,
 };
 use crate::error::{Error, Result};
 use crate::film::PixelFilter;
+use crate::material::Metal;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::render::MAX_RESOLUTION;
 use toml::de::DeValue;
@@ -159,7 +161,7 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
             })
         }
         "glass" => {
-            t.allow(&["type", "ior", "transmittance"])?;
+            t.allow(&["type", "ior", "transmittance", "alpha"])?;
             let ior = t.opt_f32("ior")?.unwrap_or(1.5);
             if ior <= 0.0 {
                 return Err(t.cx.err(
@@ -170,9 +172,126 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
             Ok(MaterialSpec::Glass {
                 ior,
                 transmittance: t.opt_color("transmittance")?.unwrap_or(Rgb::ONE),
+                alpha: alphas(t, false)?[0],
             })
         }
-        other => Err(bad_type(t, other, &["diffuse", "mirror", "glass"])),
+        "conductor" => {
+            t.allow(&["type", "metal", "eta", "k", "f0", "alpha"])?;
+            Ok(MaterialSpec::Conductor {
+                fresnel: conductor_fresnel(t)?,
+                alpha: alphas(t, true)?,
+            })
+        }
+        "pbr" => {
+            t.allow(&[
+                "type",
+                "base_color",
+                "metallic",
+                "roughness",
+                "metallic_roughness",
+                "normal_map",
+                "normal_scale",
+            ])?;
+            let base_color = match t.get("base_color") {
+                None => ColorSpec::Constant(Rgb::splat(0.8)),
+                Some(v) => color_spec(t, v)?,
+            };
+            let data = |key: &str| -> Result<Option<DataTexture>> {
+                t.get(key)
+                    .map(|v| t.cx.file(v, &t.label(key)).map(DataTexture::File))
+                    .transpose()
+            };
+            let normal_map = data("normal_map")?;
+            if normal_map.is_none() && t.get("normal_scale").is_some() {
+                return Err(t.cx.err(
+                    t.get("normal_scale").map_or(0..0, |v| v.span()),
+                    "'normal_scale' needs a 'normal_map'",
+                ));
+            }
+            let normal_scale = t.opt_f32("normal_scale")?.unwrap_or(1.0);
+            Ok(MaterialSpec::Pbr(PbrSpec {
+                base_color,
+                metallic: unit_interval(t, "metallic", 0.0)?,
+                roughness: unit_interval(t, "roughness", 0.5)?,
+                metallic_roughness: data("metallic_roughness")?,
+                normal_map: normal_map.map(|n| (n, normal_scale)),
+            }))
+        }
+        other => Err(bad_type(
+            t,
+            other,
+            &["diffuse", "mirror", "glass", "conductor", "pbr"],
+        )),
+    }
+}
+
+/// A number in [0, 1], or `default` when absent.
+fn unit_interval(t: &Table, key: &str, default: f32) -> Result<f32> {
+    let x = t.opt_f32(key)?.unwrap_or(default);
+    if !(0.0..=1.0).contains(&x) {
+        return Err(t.cx.err(
+            t.get(key).map_or(0..0, |v| v.span()),
+            format!("{} must be between 0 and 1", t.label(key)),
+        ));
+    }
+    Ok(x)
+}
+
+/// `alpha`: one GGX roughness (default 0, smooth), or `[alpha_u, alpha_v]` where allowed; each
+/// in [0, 1].
+fn alphas(t: &Table, two: bool) -> Result<[f32; 2]> {
+    let Some(v) = t.get("alpha") else {
+        return Ok([0.0, 0.0]);
+    };
+    let label = t.label("alpha");
+    let a = match v.get_ref() {
+        DeValue::Array(_) if two => floats::<2>(t.cx, v, &label)?,
+        _ => [float(t.cx, v, &label)?; 2],
+    };
+    if a.iter().any(|x| !(0.0..=1.0).contains(x)) {
+        let expected = if two {
+            "a number or [u, v], each"
+        } else {
+            "a number"
+        };
+        return Err(t.cx.err(
+            v.span(),
+            format!("{label} must be {expected} between 0 (smooth) and 1"),
+        ));
+    }
+    Ok(a)
+}
+
+/// A conductor's reflectance: `metal = "gold"`, `eta` with `k`, or `f0`.
+fn conductor_fresnel(t: &Table) -> Result<ConductorSpec> {
+    let names: Vec<&str> = Metal::ALL.iter().map(|m| m.name()).collect();
+    let metal = one_of(t, "metal", &names)?;
+    let (eta, k, f0) = (t.opt_color("eta")?, t.opt_color("k")?, t.opt_color("f0")?);
+    match (metal, eta, k, f0) {
+        (Some(name), None, None, None) => Ok(ConductorSpec::Metal(
+            Metal::ALL
+                .into_iter()
+                .find(|m| m.name() == name.as_str())
+                .unwrap_or(Metal::Gold),
+        )),
+        (None, Some(eta), Some(k), None) => Ok(ConductorSpec::Ior { eta, k }),
+        (None, None, None, Some(f0)) => {
+            if f0.max_element() > 1.0 {
+                return Err(t.cx.err(
+                    t.get("f0").map_or(0..0, |v| v.span()),
+                    "'f0' (reflectance at normal incidence) must not exceed 1",
+                ));
+            }
+            Ok(ConductorSpec::F0(f0))
+        }
+        _ => Err(t.cx.err(
+            t.span.start..t.span.start + 1,
+            format!(
+                "{} needs exactly one of 'metal' ({}), 'eta' with 'k', or 'f0'",
+                t.what,
+                names.join(", ")
+            ),
+        )),
     }
 }
 

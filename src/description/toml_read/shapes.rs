@@ -2,7 +2,9 @@
 
 use super::scene::bad_type;
 use super::values::{Cx, Table, Value, array, float, floats, integer, vec3};
-use crate::description::{EmissionSpec, Intensity, LightSpec, ShapeKind, ShapeSpec, TransformStep};
+use crate::description::{
+    EmissionSpec, EnvironmentSpec, Intensity, LightSpec, ShapeKind, ShapeSpec, Sky, TransformStep,
+};
 use crate::error::Result;
 use crate::math::{Vec2, Vec3};
 use crate::scene::TriangleMesh;
@@ -366,6 +368,47 @@ pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
                 })?,
             })
         }
+        "environment" => environment(t),
         _ => Ok(LightSpec::Area(shape(t, names, true)?)),
     }
+}
+
+/// `type = "environment"`: `radiance` (uniform) or `file` (equirectangular image), with
+/// `intensity` and `rotate`.
+fn environment(t: &Table) -> Result<LightSpec> {
+    t.allow(&["type", "radiance", "file", "intensity", "rotate"])?;
+    let sky = match (t.opt_color("radiance")?, t.get("file")) {
+        (Some(r), None) => Sky::Uniform(r),
+        (None, Some(v)) => {
+            let file = t.cx.file(v, &t.label("file"))?;
+            if crate::io::image::EnvironmentFormat::from_path(&file).is_none() {
+                return Err(t.cx.err(
+                    v.span(),
+                    "an environment map must be an OpenEXR (.exr), Radiance (.hdr) or PFM (.pfm) image",
+                ));
+            }
+            Sky::File(file)
+        }
+        _ => {
+            return Err(t.cx.err(
+                t.span.start..t.span.start + 1,
+                format!(
+                    "{} needs one of 'radiance' (a uniform sky) or 'file' (an image)",
+                    t.what
+                ),
+            ));
+        }
+    };
+    let intensity = t.opt_f32("intensity")?.unwrap_or(1.0);
+    if intensity < 0.0 {
+        return Err(t.cx.err(
+            t.get("intensity").map_or(0..0, |v| v.span()),
+            "'intensity' must not be negative",
+        ));
+    }
+    Ok(LightSpec::Environment(EnvironmentSpec {
+        sky,
+        intensity,
+        rotate_deg: t.opt_f32("rotate")?.unwrap_or(0.0),
+    }))
 }
