@@ -204,7 +204,7 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
                 ..PhotonConfig::default()
             };
             let maps = trace_photons(scene, &config, &none)?;
-            let s = PhotonSettings::auto(scene.bounds().extent().length());
+            let s = PhotonSettings::for_scene(&scene);
             let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(s, Arc::new(maps))));
             Ok(render(scene, &integrator, &settings(budget.photon_spp), &none)?.image)
         }
@@ -220,7 +220,7 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
                 seed: 0,
                 alpha: 2.0 / 3.0,
                 photons_per_pass: budget.photons_per_pass,
-                initial_radius: Some(budget.radius_fraction * scene.bounds().extent().length()),
+                initial_radius: Some(budget.radius_fraction * scene.view_diagonal()),
                 max_depth: 16,
                 light_samples: 1,
             };

@@ -184,17 +184,21 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
     assert!(
         matches!(s.material_at(&probe(-1.5, 0.0).expect("glass")), Material::Dielectric(d) if (d.ior - 1.45).abs() < 1e-6)
     );
+    // A polished metal: the glTF material itself, with a delta specular lobe.
     assert!(
-        matches!(s.material_at(&probe(-0.5, 0.0).expect("mirror")), Material::Mirror(m) if (m.reflectance.x - 0.9).abs() < 1e-6)
+        matches!(s.material_at(&probe(-0.5, 0.0).expect("mirror")), Material::Pbr(m) if (m.base_color.x - 0.9).abs() < 1e-6 && m.metallic == 1.0 && m.lobes().is_specular())
     );
+    // glTF's default roughness is 1.
     let blue = s.material_at(&probe(1.5, 0.0).expect("blue"));
-    assert!(matches!(blue, Material::Lambertian(l) if l.albedo == Rgb::new(0.2, 0.4, 0.6)));
+    assert!(
+        matches!(blue, Material::Pbr(p) if p.base_color == Rgb::new(0.2, 0.4, 0.6) && p.metallic == 0.0 && p.roughness == 1.0)
+    );
     // The rotated blue quad keeps facing +z; its normal is turned by the node's rotation.
     assert!((probe(1.5, 0.0).expect("blue").ns - Vec3::Z).length() < 1e-5);
     // The textured quad: the 2×1 image across it, shifted half a width by the texture
     // transform (left half green, right half red), read at texel centres.
     let texel = |x: f32| match s.material_at(&probe(x, 0.0).expect("textured quad")) {
-        Material::Lambertian(l) => l.albedo,
+        Material::Pbr(p) => p.base_color,
         other => panic!("{other:?}"),
     };
     assert_eq!(texel(2.75), Rgb::new(0.0, 1.0, 0.0));

@@ -93,7 +93,7 @@ fn photon_integrator(scene: &Scene, global: u64, caustic: u64, k: usize) -> Inte
         ..PhotonConfig::default()
     };
     let maps = trace_photons(scene, &config, &|_, _| {}).expect("traces");
-    let mut s = PhotonSettings::auto(scene.bounds().extent().length());
+    let mut s = PhotonSettings::for_scene(&scene);
     s.global.k = k;
     s.caustic.k = k;
     s.light_samples = 16;
@@ -256,10 +256,12 @@ fn brute_irradiance(
         .filter(|&(m, _)| m <= max_r * max_r)
         .collect();
     near.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let (used, r2) = if near.len() > k {
-        (&near[..k], near[k].0)
-    } else {
-        (&near[..], max_r * max_r)
+    // k + 1 found: the last closes the disc; 2 ≤ n ≤ k: the farthest does; one: the maximum.
+    let (used, r2) = match near.len() {
+        0 => return Rgb::ZERO,
+        1 => (&near[..], max_r * max_r),
+        n if n > k => (&near[..k], near[k].0),
+        n => (&near[..n - 1], near[n - 1].0),
     };
     let mut e = Rgb::ZERO;
     for &(m, i) in used {
@@ -381,7 +383,7 @@ fn final_gathering_mean_does_not_depend_on_k() {
     let maps = Arc::new(trace_photons(&scene, &config, &|_, _| {}).expect("traces"));
     let mut means = Vec::new();
     for k in [8, 32, 128] {
-        let mut s = PhotonSettings::auto(scene.bounds().extent().length());
+        let mut s = PhotonSettings::for_scene(&scene);
         s.global.k = k;
         s.caustic.k = k;
         let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(s, maps.clone())));
@@ -519,7 +521,7 @@ fn a_light_strip_flush_with_the_ceiling_makes_no_speckles() {
     let maps = Arc::new(trace_photons(&scene, &config, &|_, _| {}).expect("traces"));
     let mut layers = Vec::new();
     for aim in [false, true] {
-        let mut s = PhotonSettings::auto(scene.bounds().extent().length());
+        let mut s = PhotonSettings::for_scene(&scene);
         s.aim_at_hot_regions = aim;
         let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(s, maps.clone())));
         let out = render(&scene, &integrator, &settings(64, 64, 8), &|_, _| {}).expect("renders");

@@ -189,7 +189,7 @@ fn directional_light_gives_the_closed_form_irradiance() {
     };
     assert!(close(
         light.power(),
-        e * PI * d.scene_radius * d.scene_radius,
+        e * PI * d.aperture.radius * d.aperture.radius,
         1e-5
     ));
 

@@ -387,7 +387,7 @@ fn the_default_scene_shows_the_pot_lit_with_photon_mapped_indirect_light() {
         ..PhotonConfig::default()
     };
     let maps = trace_photons(&scene, &config, &|_, _| {}).expect("traces");
-    let settings = PhotonSettings::auto(scene.bounds().extent().length());
+    let settings = PhotonSettings::for_scene(&scene);
     let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(settings, Arc::new(maps))));
     let s = RenderSettings {
         width: w,

@@ -90,7 +90,7 @@ fn photon_integrator(
         ..PhotonConfig::default()
     };
     let maps = trace_photons(scene, &config, &|_, _| {}).expect("traces");
-    let mut s = PhotonSettings::auto(scene.bounds().extent().length());
+    let mut s = PhotonSettings::for_scene(&scene);
     s.gather_rays = gather_rays;
     if gather_rays == 0 {
         s.global.k = PhotonSettings::DIRECT_VISUALISATION_K;
@@ -127,9 +127,10 @@ fn closed_sphere_photon_integrator_gives_one_within_two_percent() {
             (mean - Rgb::ONE).abs().max_element() < 0.02,
             "gather {gather}: mean {mean}"
         );
-        // Single pixels carry the estimate's noise (a few per cent at these photon counts).
+        // Single pixels carry the estimate's noise: an Epanechnikov estimate of 256 photons
+        // has 7% relative deviation, 1.8% over a pixel's 16 samples; 8% is 4.4 deviations.
         for p in &img.pixels {
-            assert!((p.x - 1.0).abs() < 0.07, "gather {gather}: pixel {p}");
+            assert!((p.x - 1.0).abs() < 0.08, "gather {gather}: pixel {p}");
         }
     }
 }

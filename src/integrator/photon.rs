@@ -87,11 +87,11 @@ impl PhotonSettings {
             },
             global: GatherParams {
                 k: 32,
-                max_radius: 0.05 * scene_diagonal,
+                max_radius: 0.025 * scene_diagonal,
                 kernel: Kernel::Epanechnikov,
             },
             cache_stride: 4,
-            cache_radius: 0.05 * scene_diagonal,
+            cache_radius: 0.025 * scene_diagonal,
             indirect_scale: 1.0,
             aim_at_hot_regions: true,
         }
@@ -99,6 +99,11 @@ impl PhotonSettings {
 }
 
 impl PhotonSettings {
+    /// [`PhotonSettings::auto`] for a scene: scaled to what its camera sees.
+    pub fn for_scene(scene: &Scene) -> Self {
+        Self::auto(scene.view_diagonal())
+    }
+
     /// Photons per estimate when the global map is read directly (no final gather): its noise
     /// is seen as is, so it needs many more photons than estimates that a gather averages.
     pub const DIRECT_VISUALISATION_K: usize = 256;

@@ -11,9 +11,9 @@
 //! patch of sphere). Photons leave a disc that covers the scene's bounding sphere, as for
 //! the directional light: power Φ = π r² ∫ L(ω) dω.
 
-use super::{LightSample, PhotonEmission};
-use crate::math::{Frame, Rgb, Vec2, Vec3, luminance};
-use crate::sampling::{Distribution2D, uniform_disk_polar, uniform_sphere};
+use super::{Aperture, LightSample, PhotonEmission};
+use crate::math::{Rgb, Vec2, Vec3, luminance};
+use crate::sampling::{Distribution2D, uniform_sphere};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -34,8 +34,8 @@ pub struct EnvironmentLight {
     /// cos and sin of the rotation about +y.
     rotation: (f32, f32),
     rotation_deg: f32,
-    pub scene_center: Vec3,
-    pub scene_radius: f32,
+    /// Where its photons enter the scene (set at build).
+    pub aperture: Aperture,
 }
 
 impl EnvironmentLight {
@@ -47,8 +47,7 @@ impl EnvironmentLight {
             distribution: None,
             rotation: (1.0, 0.0),
             rotation_deg: 0.0,
-            scene_center: Vec3::ZERO,
-            scene_radius: 0.0,
+            aperture: Aperture::default(),
         }
     }
 
@@ -71,8 +70,7 @@ impl EnvironmentLight {
             distribution,
             rotation: (r.cos(), r.sin()),
             rotation_deg,
-            scene_center: Vec3::ZERO,
-            scene_radius: 0.0,
+            aperture: Aperture::default(),
         }
     }
 
@@ -120,7 +118,7 @@ impl EnvironmentLight {
 
     /// Total power: π r² ∫ L dω over the sphere.
     pub fn power(&self) -> Rgb {
-        let disc = PI * self.scene_radius * self.scene_radius;
+        let disc = self.aperture.area();
         let Some(map) = &self.map else {
             return self.scale * (4.0 * PI * disc);
         };
@@ -178,7 +176,7 @@ impl EnvironmentLight {
     /// A direction toward the sky from `p`; the shadow ray ends outside the scene's sphere.
     pub fn sample_li(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
         let (wi, pdf) = self.sample_direction(u)?;
-        let far = 2.0 * self.scene_radius + (p - self.scene_center).length();
+        let far = 2.0 * self.aperture.radius + (p - self.aperture.center).length();
         Some(LightSample {
             wi,
             radiance: self.radiance(wi),
@@ -189,21 +187,16 @@ impl EnvironmentLight {
         })
     }
 
-    /// A photon arriving from a sampled direction through a uniform point of the disc of
-    /// radius r that faces it, one radius outside the scene's centre: flux L · π r² / pdf.
-    pub fn emit(&self, u_pos: Vec2, u_dir: Vec2) -> Option<PhotonEmission> {
-        if self.scene_radius <= 0.0 {
-            return None;
-        }
+    /// A photon arriving from a sampled direction through the aperture (see [`Aperture`]):
+    /// flux L / (pdf(ω) · density of its line), which is L · π r² / pdf(ω) for the scene's disc.
+    pub fn emit(&self, u_pick: f32, u_pos: Vec2, u_dir: Vec2) -> Option<PhotonEmission> {
         let (toward_sky, pdf) = self.sample_direction(u_dir)?;
-        let f = Frame::from_normal(toward_sky);
-        let d = uniform_disk_polar(u_pos, self.scene_radius);
-        let disc = PI * self.scene_radius * self.scene_radius;
+        let (origin, density) = self.aperture.sample(-toward_sky, u_pick, u_pos)?;
         Some(PhotonEmission {
-            origin: self.scene_center + toward_sky * self.scene_radius + f.s * d.x + f.t * d.y,
+            origin,
             dir: -toward_sky,
             normal: Vec3::ZERO,
-            flux: self.radiance(toward_sky) * (disc / pdf),
+            flux: self.radiance(toward_sky) / (pdf * density),
         })
     }
 }

@@ -1,12 +1,14 @@
 //! Lights: the closed set, one file each. Every light reports its total emitted power (flux in
 //! watts per RGB channel) and can be sampled from a shading point for next-event estimation.
 
+mod aperture;
 mod area;
 mod directional;
 mod environment;
 mod point;
 mod spot;
 
+pub use aperture::Aperture;
 pub use area::AreaLight;
 pub use directional::DirectionalLight;
 pub use environment::{EnvironmentLight, EnvironmentMap};
@@ -83,9 +85,9 @@ impl Light {
         match self {
             Light::Point(l) => Some(l.emit(u_dir)),
             Light::Spot(l) => l.emit(u_dir),
-            Light::Directional(l) => l.emit(u_pos),
+            Light::Directional(l) => l.emit(u_pick, u_pos),
             Light::Area(l) => l.emit(u_pick, u_pos, u_dir),
-            Light::Environment(l) => l.emit(u_pos, u_dir),
+            Light::Environment(l) => l.emit(u_pick, u_pos, u_dir),
         }
     }
 

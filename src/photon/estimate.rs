@@ -134,8 +134,7 @@ impl Filter {
 /// is exactly the density (for a Poisson process; Silverman 1986, §5.2.2), so every kernel
 /// normalised over its disc is unbiased. Summing the photon that closes the disc, as Jensen's
 /// estimate does, is k/(k−1) too bright with the box kernel. When fewer than k + 1 photons lie
-/// within the maximum radius, all of them are used with the maximum radius; the two cases
-/// together are still unbiased (the expectation splits into P(N ≥ k) + P(N < k) = 1).
+/// within the maximum radius, the farthest of them closes the disc (see below).
 pub(super) fn gather(
     map: &PhotonMap,
     p: Vec3,
@@ -169,13 +168,25 @@ pub(super) fn gather(
     let best = map
         .index()
         .nearest_by(photons, p, g.k.saturating_add(1), max_r2, &metric);
-    let r2 = best.r2();
+    // The heap's root is the farthest photon found: with k + 1, the one that closes the disc.
+    // With fewer (2 ≤ n ≤ k) inside the maximum radius, the farthest closes the disc all the
+    // same: given n photons uniform in the maximum disc, the other n − 1 are uniform in the
+    // disc the farthest closes, and E[(n − 1)/(π r²ₙ)] = n/(π r²ₘₐₓ), the unbiased estimate on
+    // a plane. Where the surface that agrees with the normal is smaller than the maximum disc
+    // (a small sphere, a thin strip), the closing radius adapts to it, where dividing by the
+    // maximum disc read a sphere under a sky at 8% of its light. A lone photon keeps the
+    // maximum radius (n = 1 has no disc of its own).
+    let found = best.found();
+    let (r2, closing) = match found.first() {
+        Some(&(d2, i)) if best.is_full() || found.len() >= 2 => (d2, Some(i)),
+        Some(_) => (max_r2, None),
+        None => return,
+    };
     if r2 <= 0.0 || r2.is_nan() {
-        // k + 1 photons at one point: no disc to spread them over.
+        // Photons at one point: no disc to spread them over.
         return;
     }
-    let closing = best.is_full().then(|| best.found()[0].1);
-    for &(m, i) in best.found() {
+    for &(m, i) in found {
         if Some(i) != closing {
             f(i, g.kernel.weight(m, r2));
         }

@@ -428,7 +428,8 @@ impl SceneBuilder {
                 f64::from(p.x + p.y + p.z)
             })
             .collect();
-        Ok(Scene {
+        let mut scene = Scene {
+            view_bounds: None,
             name: self.name,
             shapes,
             prim_material,
@@ -445,25 +446,26 @@ impl SceneBuilder {
             camera,
             default_resolution: self.resolution,
             bvh,
-        })
+        };
+        scene.aim_distant_lights_at_view();
+        Ok(scene)
     }
 }
 
-/// Give directional lights the scene's bounding sphere (a hair larger, so shadow rays end
-/// outside it), which sets their power and where their photons start. In an empty scene they
-/// have no power.
+/// Give distant lights (directional, environment) the scene's bounding sphere (a hair larger,
+/// so shadow rays end outside it), which sets their power and where their photons start. In an
+/// empty scene they have no power.
 fn fit_directional_lights(lights: &mut [Light], bounds: &crate::geometry::Bounds) {
     for l in lights {
-        let (center, radius) = match l {
-            Light::Directional(d) => (&mut d.scene_center, &mut d.scene_radius),
-            Light::Environment(e) => (&mut e.scene_center, &mut e.scene_radius),
+        let aperture = match l {
+            Light::Directional(d) => &mut d.aperture,
+            Light::Environment(e) => &mut e.aperture,
             _ => continue,
         };
-        *center = 0.5 * (bounds.min + bounds.max);
-        *radius = 0.5 * bounds.extent().length() * 1.001;
-        if !radius.is_finite() || !center.is_finite() {
-            *center = Vec3::ZERO;
-            *radius = 0.0;
+        aperture.center = 0.5 * (bounds.min + bounds.max);
+        aperture.radius = 0.5 * bounds.extent().length() * 1.001;
+        if !aperture.radius.is_finite() || !aperture.center.is_finite() {
+            *aperture = crate::light::Aperture::default();
         }
     }
 }

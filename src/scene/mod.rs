@@ -89,6 +89,8 @@ pub struct Scene {
     lights: Vec<Light>,
     light_choice: Option<Distribution1D>,
     pub camera: CameraDesc,
+    /// What the camera sees (see [`Scene::view_diagonal`]), measured at build.
+    view_bounds: Option<Bounds>,
     /// Resolution used when the user gives none.
     pub default_resolution: (u32, u32),
     bvh: Bvh,
@@ -348,6 +350,61 @@ impl Scene {
             h.write(format!("{l:?}").as_bytes());
         }
         h.finish()
+    }
+
+    /// Give distant lights (sun, sky) a sphere around what the camera sees, through which half
+    /// their photons enter (see [`crate::light::Aperture`]): the bounding box of the first hits
+    /// of a 48 × 48 grid of camera rays, 10% larger. None when it would not be much smaller
+    /// than the whole scene (then it would gain nothing) or the camera sees nothing.
+    /// The diagonal of what the camera sees (the bounding box of the first hits of a grid of
+    /// camera rays), or of the whole scene when the camera sees nothing: the length that
+    /// default gather radii are fractions of. A scene's ground may reach far beyond the
+    /// objects looked at; radii scaled by the whole scene then reach across to other objects
+    /// whose surfaces face the same way (a row of small spheres on a 20 m plane lost most of
+    /// their indirect light so).
+    pub fn view_diagonal(&self) -> f32 {
+        let whole = self.bounds().extent().length();
+        self.view_bounds
+            .map_or(whole, |b| b.extent().length().min(whole))
+    }
+
+    pub(crate) fn aim_distant_lights_at_view(&mut self) {
+        const GRID: u32 = 48;
+        let (w, h) = self.default_resolution;
+        let Some(camera) = crate::camera::Camera::new(&self.camera, w.max(1), h.max(1)) else {
+            return;
+        };
+        let mut bounds: Option<Bounds> = None;
+        for j in 0..GRID {
+            for i in 0..GRID {
+                let film = Vec2::new(
+                    (i as f32 + 0.5) / GRID as f32 * w as f32,
+                    (j as f32 + 0.5) / GRID as f32 * h as f32,
+                );
+                if let Some(hit) = self.intersect(&camera.ray(film), f32::INFINITY) {
+                    let b = Bounds {
+                        min: hit.p,
+                        max: hit.p,
+                    };
+                    bounds = Some(bounds.map_or(b, |a| a.union(b)));
+                }
+            }
+        }
+        let Some(b) = bounds else {
+            return;
+        };
+        self.view_bounds = Some(b);
+        let center = 0.5 * (b.min + b.max);
+        for l in &mut self.lights {
+            let aperture = match l {
+                Light::Directional(d) => &mut d.aperture,
+                Light::Environment(e) => &mut e.aperture,
+                _ => continue,
+            };
+            let radius = (0.5 * b.extent().length() * 1.1).max(1e-3 * aperture.radius);
+            let inside = (center - aperture.center).length() + radius <= aperture.radius;
+            aperture.view = (inside && radius < 0.5 * aperture.radius).then_some((center, radius));
+        }
     }
 
     /// Sum of all lights' power, watts per channel.

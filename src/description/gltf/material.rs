@@ -118,9 +118,6 @@ fn texture(
     if info.tex_coord() != 0 {
         sink.warn("textures on texture coordinate sets other than 0 use set 0");
     }
-    if info.texture_transform().is_some() {
-        sink.warn("KHR_texture_transform is ignored (textures are placed without it)");
-    }
     texture_of(g, sink, &info.texture(), encoding)
 }
 
