@@ -204,7 +204,7 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
                 ..PhotonConfig::default()
             };
             let maps = trace_photons(scene, &config, &none)?;
-            let s = PhotonSettings::for_scene(&scene);
+            let s = PhotonSettings::for_scene(scene);
             let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(s, Arc::new(maps))));
             Ok(render(scene, &integrator, &settings(budget.photon_spp), &none)?.image)
         }

@@ -90,7 +90,7 @@ fn photon_integrator(
         ..PhotonConfig::default()
     };
     let maps = trace_photons(scene, &config, &|_, _| {}).expect("traces");
-    let mut s = PhotonSettings::for_scene(&scene);
+    let mut s = PhotonSettings::for_scene(scene);
     s.gather_rays = gather_rays;
     if gather_rays == 0 {
         s.global.k = PhotonSettings::DIRECT_VISUALISATION_K;

@@ -478,7 +478,7 @@ fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Inte
         }
         IntegratorName::Photon => {
             let maps = photon_maps(a, scene, phases)?;
-            let mut s = PhotonSettings::for_scene(&scene);
+            let mut s = PhotonSettings::for_scene(scene);
             if let Some(d) = a.max_depth {
                 s.max_depth = d;
             }
