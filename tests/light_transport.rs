@@ -93,7 +93,7 @@ fn photon_integrator(scene: &Scene, global: u64, caustic: u64, k: usize) -> Inte
         ..PhotonConfig::default()
     };
     let maps = trace_photons(scene, &config, &|_, _| {}).expect("traces");
-    let mut s = PhotonSettings::for_scene(&scene);
+    let mut s = PhotonSettings::for_scene(scene);
     s.global.k = k;
     s.caustic.k = k;
     s.light_samples = 16;

@@ -156,7 +156,7 @@ fn small_render(scene: &Scene) -> Image {
         ..PhotonConfig::default()
     };
     let maps = trace_photons(scene, &config, &|_, _| {}).expect("traces");
-    let settings = PhotonSettings::for_scene(&scene);
+    let settings = PhotonSettings::for_scene(scene);
     let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(settings, Arc::new(maps))));
     let s = RenderSettings {
         width: 24,
