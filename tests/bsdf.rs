@@ -3,6 +3,8 @@
 //! white furnace (energy ≤ 1, with the loss of single-scattering microfacets at high roughness
 //! stated).
 
+mod common;
+
 use photon::material::microfacet::Ggx;
 use photon::material::{
     Conductor, ConductorFresnel, Lambertian, Material, Metal, Part, Pbr, RoughDielectric,
@@ -44,73 +46,25 @@ fn direction(cos: f32, phi: f32) -> Vec3 {
     Vec3::new(sin * phi.cos(), sin * phi.sin(), cos)
 }
 
-const Z_BINS: usize = 20;
-const PHI_BINS: usize = 40;
-const SUB: usize = 10;
-
-/// χ² test of `sample_part` against `pdf_part` over a (cos θ, φ) grid of the sphere; bins with
-/// an expected count under 5 are pooled. Fails when the p-value is below 1e-4.
-fn chi2(name: &str, m: &Material, wo: Vec3, part: Part, n: usize) {
-    let mut observed = vec![0f64; Z_BINS * PHI_BINS];
-    let mut rng = Rng::keyed(11, &[n as u64]);
-    for _ in 0..n {
-        let Some(s) = m.sample_part(
-            wo,
-            rng.next_f32(),
-            rng.next_2d(),
-            TransportMode::Radiance,
-            part,
-        ) else {
-            continue;
-        };
-        assert!(!s.is_specular(), "{name}: a delta lobe in a χ² test");
-        let z = ((s.wi.z + 1.0) * 0.5 * Z_BINS as f32) as usize;
-        let phi = s.wi.y.atan2(s.wi.x).rem_euclid(std::f32::consts::TAU);
-        let p = (phi / std::f32::consts::TAU * PHI_BINS as f32) as usize;
-        observed[z.min(Z_BINS - 1) * PHI_BINS + p.min(PHI_BINS - 1)] += 1.0;
-    }
-    // Expected counts: the pdf integrated over each bin (dω = d(cos θ) dφ), midpoint rule.
-    let dz = 2.0 / (Z_BINS * SUB) as f64;
-    let dphi = 2.0 * PI / (PHI_BINS * SUB) as f64;
-    let mut expected = vec![0f64; Z_BINS * PHI_BINS];
-    for (bin, e) in expected.iter_mut().enumerate() {
-        let (zb, pb) = (bin / PHI_BINS, bin % PHI_BINS);
-        for i in 0..SUB {
-            for j in 0..SUB {
-                let z = -1.0 + ((zb * SUB + i) as f64 + 0.5) * dz;
-                let phi = ((pb * SUB + j) as f64 + 0.5) * dphi;
-                let wi = direction(z as f32, phi as f32);
-                *e += f64::from(m.pdf_part(wo, wi, part)) * dz * dphi;
-            }
-        }
-        *e *= n as f64;
-    }
-    let (mut stat, mut dof, mut pooled_o, mut pooled_e) = (0.0, 0usize, 0.0, 0.0);
-    for (o, e) in observed.iter().zip(&expected) {
-        if *e < 5.0 {
-            pooled_o += o;
-            pooled_e += e;
-        } else {
-            stat += (o - e) * (o - e) / e;
-            dof += 1;
-        }
-    }
-    if pooled_e >= 5.0 {
-        stat += (pooled_o - pooled_e) * (pooled_o - pooled_e) / pooled_e;
-        dof += 1;
-    } else {
-        assert!(
-            pooled_o < 20.0,
-            "{name}: {pooled_o} samples where the pdf says {pooled_e}"
-        );
-    }
-    let dof = (dof - 1) as f64;
-    // Wilson–Hilferty: (χ²/k)^(1/3) is close to normal with mean 1 − 2/(9k), variance 2/(9k).
-    let z = ((stat / dof).cbrt() - (1.0 - 2.0 / (9.0 * dof))) / (2.0 / (9.0 * dof)).sqrt();
-    assert!(
-        z < 3.72,
-        "{name}: χ² = {stat:.1} with {dof} dof (z = {z:.2}, p < 1e-4)"
+/// χ² test of `sample_part` against `pdf_part` (see [`common::chi2_directions`]).
+fn chi2(name: &str, m: &Material, wo: Vec3, part: Part, n: u64) {
+    let z = common::chi2_directions(
+        n,
+        11,
+        |rng| {
+            let s = m.sample_part(
+                wo,
+                rng.next_f32(),
+                rng.next_2d(),
+                TransportMode::Radiance,
+                part,
+            )?;
+            assert!(!s.is_specular(), "{name}: a delta lobe in a χ² test");
+            Some(s.wi)
+        },
+        |wi| f64::from(m.pdf_part(wo, wi, part)),
     );
+    assert!(z < 4.0, "{name}: χ² z-score {z:.2} (p < 3e-5)");
 }
 
 #[test]

@@ -116,26 +116,29 @@ impl EnvironmentLight {
         self.scale * bilinear(map, Self::uv(self.to_local(d)))
     }
 
-    /// Total power: π r² ∫ L dω over the sphere.
+    /// Total power: π r² ∫ L dω over the sphere, of the radiance as it is looked up. The
+    /// bilinear lookup is a sum of texels times hat functions, so the integral is a sum of
+    /// texels times the integrals of their hats: 1/w across (columns wrap), and ∫ hat(v)
+    /// sin(πv) dv down (rows sit at v = j/(h − 1); integrated numerically, once per row).
     pub fn power(&self) -> Rgb {
         let disc = self.aperture.area();
         let Some(map) = &self.map else {
             return self.scale * (4.0 * PI * disc);
         };
-        // Each pixel covers (2π/w)(π/h) sin θ of solid angle.
         let (w, h) = (map.width as usize, map.height as usize);
+        let row_weights = row_hat_integrals(h);
         let mut sum = [0f64; 3];
-        for y in 0..h {
-            let sin_theta = f64::from((PI * (y as f32 + 0.5) / h as f32).sin());
+        for (y, weight) in row_weights.iter().enumerate() {
             for x in 0..w {
                 let t = map.texels[y * w + x];
                 for (c, s) in sum.iter_mut().enumerate() {
-                    *s += f64::from(t[c]) * sin_theta;
+                    *s += f64::from(t[c]) * weight / w as f64;
                 }
             }
         }
-        let d_omega = 2.0 * std::f64::consts::PI * std::f64::consts::PI / (w * h) as f64;
-        let integral = Rgb::new(sum[0] as f32, sum[1] as f32, sum[2] as f32) * d_omega as f32;
+        // dω = sin θ dθ dφ = 2π² sin(πv) du dv.
+        let k = 2.0 * std::f64::consts::PI * std::f64::consts::PI;
+        let integral = Rgb::new(sum[0] as f32, sum[1] as f32, sum[2] as f32) * k as f32;
         self.scale * integral * disc
     }
 
@@ -148,12 +151,14 @@ impl EnvironmentLight {
             return Some((uniform_sphere(u), 1.0 / (4.0 * PI)));
         };
         let (uv, pdf_uv) = dist.sample(u);
-        let d = Self::direction(uv);
-        let sin_theta = (uv.y * PI).sin();
-        if sin_theta <= 0.0 || pdf_uv <= 0.0 {
+        if pdf_uv <= 0.0 {
             return None;
         }
-        Some((self.to_world(d), pdf_uv / (2.0 * PI * PI * sin_theta)))
+        let d = self.to_world(Self::direction(uv));
+        // The density of the direction as `pdf` computes it, so that the two agree to the bit
+        // (the direction's cell, recomputed, may be the neighbour at a cell's edge).
+        let pdf = self.pdf(d);
+        (pdf > 0.0).then_some((d, pdf))
     }
 
     /// Solid-angle density with which [`EnvironmentLight::sample_li`] picks direction `d`.
@@ -199,6 +204,32 @@ impl EnvironmentLight {
             flux: self.radiance(toward_sky) / (pdf * density),
         })
     }
+}
+
+/// ∫ hat_j(v) sin(πv) dv for each of `h` rows at v = j/(h − 1), hat_j falling linearly to zero
+/// at the neighbouring rows (the first and last rows have half a hat).
+fn row_hat_integrals(h: usize) -> Vec<f64> {
+    if h == 1 {
+        return vec![2.0 / std::f64::consts::PI];
+    }
+    const STEPS: usize = 64;
+    let dv = 1.0 / (h - 1) as f64;
+    (0..h)
+        .map(|j| {
+            let vj = j as f64 * dv;
+            let mut sum = 0.0;
+            for side in [-1.0, 1.0] {
+                for s in 0..STEPS {
+                    let t = (s as f64 + 0.5) / STEPS as f64;
+                    let v = vj + side * t * dv;
+                    if (0.0..=1.0).contains(&v) {
+                        sum += (1.0 - t) * (std::f64::consts::PI * v).sin() * dv / STEPS as f64;
+                    }
+                }
+            }
+            sum
+        })
+        .collect()
 }
 
 /// Bilinear lookup as Mitsuba 3's `envmap` does it: columns centred at (i + ½)/w and wrapping,

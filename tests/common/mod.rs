@@ -118,3 +118,94 @@ pub fn on_one_and_two_threads<T: Send>(f: impl Fn() -> T + Sync) -> [T; 2] {
             .install(&f)
     })
 }
+
+/// χ² test of a direction sampler against its solid-angle density, as Mitsuba tests its
+/// plugins: `n` draws of `sample` (which may fail, `None`) binned over a (cos θ, φ) grid of the
+/// sphere, against `pdf` integrated over each cell by the midpoint rule on a finer grid; the
+/// failed draws are one more cell, with the probability the pdf leaves over. Returns the
+/// z-score of the statistic (Wilson–Hilferty); a correct sampler stays below ~4.
+pub fn chi2_directions(
+    n: u64,
+    seed: u64,
+    mut sample: impl FnMut(&mut photon::sampling::Rng) -> Option<photon::math::Vec3>,
+    pdf: impl Fn(photon::math::Vec3) -> f64,
+) -> f64 {
+    use std::f64::consts::PI;
+    const Z_BINS: usize = 20;
+    const PHI_BINS: usize = 40;
+    const SUB: usize = 10;
+    let mut counts = vec![0u64; Z_BINS * PHI_BINS + 1];
+    let mut rng = photon::sampling::Rng::keyed(seed, &[n]);
+    for _ in 0..n {
+        let Some(w) = sample(&mut rng) else {
+            counts[Z_BINS * PHI_BINS] += 1;
+            continue;
+        };
+        let z = ((f64::from(w.z).clamp(-1.0, 1.0) + 1.0) * 0.5 * Z_BINS as f64) as usize;
+        let phi = f64::from(w.y).atan2(f64::from(w.x)).rem_euclid(2.0 * PI);
+        let p = (phi / (2.0 * PI) * PHI_BINS as f64) as usize;
+        counts[z.min(Z_BINS - 1) * PHI_BINS + p.min(PHI_BINS - 1)] += 1;
+    }
+    let dz = 2.0 / (Z_BINS * SUB) as f64;
+    let dphi = 2.0 * PI / (PHI_BINS * SUB) as f64;
+    let mut probs = vec![0f64; Z_BINS * PHI_BINS + 1];
+    for (bin, prob) in probs.iter_mut().take(Z_BINS * PHI_BINS).enumerate() {
+        let (zb, pb) = (bin / PHI_BINS, bin % PHI_BINS);
+        for i in 0..SUB {
+            for j in 0..SUB {
+                let z = -1.0 + ((zb * SUB + i) as f64 + 0.5) * dz;
+                let phi = ((pb * SUB + j) as f64 + 0.5) * dphi;
+                let s = (1.0 - z * z).max(0.0).sqrt();
+                let w = photon::math::Vec3::new(
+                    (s * phi.cos()) as f32,
+                    (s * phi.sin()) as f32,
+                    z as f32,
+                );
+                *prob += pdf(w) * dz * dphi;
+            }
+        }
+    }
+    // The midpoint rule can miss a sliver of density at a cell's edge: no cell is impossible.
+    probs.iter_mut().for_each(|p| *p = p.max(1e-12));
+    let covered: f64 = probs.iter().take(Z_BINS * PHI_BINS).sum();
+    let failed = counts[Z_BINS * PHI_BINS];
+    if covered > 0.998 && failed * 1000 < n {
+        // A sampler that (almost) never fails: what the pdf leaves over is the midpoint
+        // rule's error, not a probability of failing. Test where the samples went.
+        counts.pop();
+        probs.pop();
+        let kept: u64 = counts.iter().sum();
+        probs.iter_mut().for_each(|p| *p /= covered);
+        let (stat, dof) = chi2(&counts, &probs, kept);
+        return chi2_z(stat, dof);
+    }
+    probs[Z_BINS * PHI_BINS] = (1.0 - covered).max(1e-12);
+    // The midpoint rule's own error: renormalise what it integrated.
+    let total: f64 = probs.iter().sum();
+    probs.iter_mut().for_each(|p| *p /= total);
+    let (stat, dof) = chi2(&counts, &probs, n);
+    let z = chi2_z(stat, dof);
+    if z > 4.0 {
+        // Say where: the cells that differ most.
+        let mut worst: Vec<(f64, usize)> = counts
+            .iter()
+            .zip(&probs)
+            .enumerate()
+            .map(|(i, (&o, &p))| {
+                let e = p * n as f64;
+                ((o as f64 - e).powi(2) / e.max(1.0), i)
+            })
+            .collect();
+        worst.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for &(c, i) in worst.iter().take(5) {
+            eprintln!(
+                "cell {i} (cos θ bin {}, φ bin {}): observed {}, expected {:.1} (χ² {c:.1})",
+                i / PHI_BINS,
+                i % PHI_BINS,
+                counts[i],
+                probs[i] * n as f64
+            );
+        }
+    }
+    z
+}
