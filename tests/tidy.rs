@@ -59,3 +59,32 @@ fn every_library_file_is_on_the_architecture_map() {
         "files not named in ARCHITECTURE.md's module table: {missing:?}"
     );
 }
+
+/// The rule ARCHITECTURE.md states for materials: integrators (and the photon and progressive
+/// modules) decide by lobes and parts and call the BSDF; they never name a material kind, so a
+/// new material renders everywhere once it is in `material/`.
+#[test]
+fn light_transport_never_matches_on_a_material_kind() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    for dir in ["integrator", "photon", "progressive"] {
+        rust_files(&root.join(dir), &mut files);
+    }
+    files.push(root.join("render.rs"));
+    let mut found = Vec::new();
+    for f in files {
+        let text = std::fs::read_to_string(&f).expect("reads");
+        for (i, line) in text.lines().enumerate() {
+            if let Some(at) = line.find("Material::")
+                && line[at + "Material::".len()..].starts_with(|c: char| c.is_ascii_uppercase())
+            {
+                found.push(format!("{}:{}: {}", f.display(), i + 1, line.trim()));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "light transport names material kinds (decide by `lobes()`/`has(Part)` instead):\n{}",
+        found.join("\n")
+    );
+}
