@@ -12,7 +12,6 @@ use photon::material::{
 };
 use photon::math::{Rgb, Vec3};
 use photon::sampling::{Rng, uniform_sphere};
-use std::f64::consts::PI;
 
 fn gold(alpha_x: f32, alpha_y: f32) -> Material {
     let (eta, k) = Metal::Gold.ior();
