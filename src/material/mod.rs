@@ -163,6 +163,7 @@ pub enum Material {
 
 impl Material {
     /// The union of the material's lobes.
+    #[inline]
     pub fn lobes(&self) -> Lobes {
         match self {
             Material::Lambertian(_) => Lobes::DIFFUSE_REFLECTION,
@@ -175,6 +176,7 @@ impl Material {
     }
 
     /// Whether any of the material's lobes belongs to `part`.
+    #[inline]
     pub fn has(&self, part: Part) -> bool {
         match self {
             Material::Lambertian(_) => part != Part::Smooth,
@@ -203,8 +205,9 @@ impl Material {
     }
 
     /// BSDF value of the lobes in `part`.
+    #[inline]
     pub fn eval_part(&self, wo: Vec3, wi: Vec3, mode: TransportMode, part: Part) -> Rgb {
-        if !self.has(part) {
+        if part != Part::All && !self.has(part) {
             return Rgb::ZERO;
         }
         match self {
@@ -223,8 +226,9 @@ impl Material {
     }
 
     /// Density with which [`Material::sample_part`] for `part` picks `wi`.
+    #[inline]
     pub fn pdf_part(&self, wo: Vec3, wi: Vec3, part: Part) -> f32 {
-        if !self.has(part) {
+        if part != Part::All && !self.has(part) {
             return 0.0;
         }
         match self {
@@ -250,6 +254,7 @@ impl Material {
     }
 
     /// Sample an incident direction from the lobes in `part`.
+    #[inline]
     pub fn sample_part(
         &self,
         wo: Vec3,
@@ -258,7 +263,7 @@ impl Material {
         mode: TransportMode,
         part: Part,
     ) -> Option<BsdfSample> {
-        if !self.has(part) {
+        if part != Part::All && !self.has(part) {
             return None;
         }
         match self {

@@ -428,8 +428,12 @@ impl SceneBuilder {
                 f64::from(p.x + p.y + p.z)
             })
             .collect();
+        let environment = lights
+            .iter()
+            .position(|l| matches!(l, Light::Environment(_)));
         let mut scene = Scene {
             view_bounds: None,
+            environment,
             name: self.name,
             shapes,
             prim_material,

@@ -89,6 +89,8 @@ pub struct Scene {
     lights: Vec<Light>,
     light_choice: Option<Distribution1D>,
     pub camera: CameraDesc,
+    /// Index of the environment light among `lights`, if there is one.
+    environment: Option<usize>,
     /// What the camera sees (see [`Scene::view_diagonal`]), measured at build.
     view_bounds: Option<Bounds>,
     /// Resolution used when the user gives none.
@@ -278,11 +280,13 @@ impl Scene {
     }
 
     /// The environment light, if the scene has one, with its index among the lights.
+    #[inline]
     pub fn environment(&self) -> Option<(usize, &EnvironmentLight)> {
-        self.lights.iter().enumerate().find_map(|(i, l)| match l {
+        let i = self.environment?;
+        match &self.lights[i] {
             Light::Environment(e) => Some((i, e)),
             _ => None,
-        })
+        }
     }
 
     /// Radiance arriving along a ray that leaves the scene in direction `dir`: the environment's,
