@@ -97,7 +97,7 @@ fn test_gltf() -> Vec<u8> {
         "materials": [
             {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0}, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.45}}},
             {"name": "mirror", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1.0], "metallicFactor": 1.0, "roughnessFactor": 0.0}},
-            {"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0], "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}, "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}},
+            {"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0], "emissiveTexture": {"index": 0}, "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}, "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}},
             {"name": "blue", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0], "metallicFactor": 0.0}, "alphaMode": "BLEND"},
             {"name": "image", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.0]}}}}}
         ],
@@ -203,7 +203,8 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
     };
     assert_eq!(texel(2.75), Rgb::new(0.0, 1.0, 0.0));
     assert_eq!(texel(3.25), Rgb::new(1.0, 0.0, 0.0));
-    // The emissive quad (0.5 × 0.5, one-sided) is an area light of radiance 5.
+    // The emissive quad (0.5 × 0.5, one-sided) is an area light of radiance 5 times its
+    // emissive texture (the red-green image: each a triangle wave of mean ½ across u, no blue).
     let area = s
         .lights()
         .iter()
@@ -213,7 +214,12 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
         })
         .expect("emissive mesh light");
     assert!((area.area() - 0.25).abs() < 1e-5);
-    assert!((area.power().x - 5.0 * std::f32::consts::PI * 0.25).abs() < 1e-4);
+    let full = 5.0 * std::f32::consts::PI * 0.25;
+    let p = area.power();
+    assert!(
+        (p.x / full - 0.5).abs() < 0.01 && (p.y / full - 0.5).abs() < 0.01 && p.z == 0.0,
+        "{p}"
+    );
     assert_eq!(s.lights().len(), 3);
 }
 

@@ -1,6 +1,8 @@
 //! Every light's reported power against a Monte Carlo integral of its emission, and light
 //! sampling against closed-form irradiance.
 
+mod common;
+
 use photon::description::builtin;
 use photon::geometry::{Disk, Shape, Triangle};
 use photon::light::{AreaLight, Light, PointLight, SpotLight};
@@ -224,5 +226,111 @@ fn directional_light_gives_the_closed_form_irradiance() {
         close(irradiance, e * theta.cos(), 0.02),
         "photon irradiance {irradiance} vs {}",
         e * theta.cos()
+    );
+}
+
+/// An emissive texture: a quad light, black on its left half and white on its right (a 2 × 1
+/// PNG, read bilinearly with wrap-around: a triangle wave of mean ½). Its power is half the
+/// untextured light's; its photons carry that power; the floor is lit more under the white
+/// half (light sampling reads the texture on the light's side); and the camera, looking up,
+/// sees the white half on the same side (the scene reads it at the hit).
+#[test]
+fn emissive_texture_sets_power_sampling_and_appearance_alike() {
+    use photon::description::{build::build, toml_read::read_str};
+    use photon::integrator::{DirectConfig, Integrator};
+    use photon::render::{RenderSettings, render};
+    let dir = common::temp_dir("emissive-texture");
+    let mut img = image::RgbImage::new(2, 1);
+    img.put_pixel(1, 0, image::Rgb([255, 255, 255]));
+    img.save(dir.join("half.png")).expect("png");
+    let scene_text = |camera: &str| {
+        format!(
+            r#"
+{camera}
+[materials.floor]
+type = "diffuse"
+albedo = 0.5
+[[shapes]]
+type = "quad"
+vertices = [[-2.0, 0.0, 2.0], [2.0, 0.0, 2.0], [2.0, 0.0, -2.0], [-2.0, 0.0, -2.0]]
+material = "floor"
+[[lights]]
+type = "quad"
+vertices = [[-1.0, 2.0, -1.0], [1.0, 2.0, -1.0], [1.0, 2.0, 1.0], [-1.0, 2.0, 1.0]]
+radiance = 4.0
+texture = "half.png"
+"#
+        )
+    };
+    let load = |camera: &str| {
+        let text = scene_text(camera);
+        let desc = read_str(&text, &dir.join("t.toml"), &dir).expect("reads");
+        build(&desc).expect("builds")
+    };
+    // From above, looking down at the floor; from below, looking up at the light.
+    let down = load(
+        "[camera]\nposition = [0.0, 1.0, 0.001]\nlook_at = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, -1.0]\nfov = 100.0",
+    );
+    let up = load(
+        "[camera]\nposition = [0.0, 0.5, 0.001]\nlook_at = [0.0, 2.0, 0.0]\nup = [0.0, 0.0, -1.0]\nfov = 90.0",
+    );
+    let Light::Area(light) = &down.lights()[0] else {
+        panic!("an area light")
+    };
+    let untextured = 4.0 * PI * 4.0;
+    assert!(
+        (light.power().x / untextured - 0.5).abs() < 0.01,
+        "power {} of {untextured}",
+        light.power().x
+    );
+    let mut rng = Rng::keyed(21, &[]);
+    let mut flux = 0.0f64;
+    let n = 400_000;
+    for _ in 0..n {
+        if let Some(e) = down.lights()[0].emit(rng.next_f32(), rng.next_2d(), rng.next_2d()) {
+            flux += f64::from(e.flux.x);
+        }
+    }
+    let mean = flux / f64::from(n);
+    assert!(
+        (mean / f64::from(light.power().x) - 1.0).abs() < 0.01,
+        "photons carry {mean}, power {}",
+        light.power().x
+    );
+    let settings = RenderSettings {
+        width: 16,
+        height: 16,
+        spp: 64,
+        seed: 1,
+        filter: photon::film::PixelFilter::Box,
+    };
+    let direct = Integrator::Direct(DirectConfig::default());
+    let floor = render(&down, &direct, &settings, &|_, _| {})
+        .expect("renders")
+        .image;
+    let sky = render(&up, &direct, &settings, &|_, _| {})
+        .expect("renders")
+        .image;
+    // Looking down with up = −z, the image's right is world +x; looking up, its right is −x.
+    // Compare the images' left and right thirds.
+    let side = |img: &photon::film::Image, right: bool| {
+        let mut s = 0.0;
+        for y in 0..16 {
+            for x in 0..5 {
+                let x = if right { 15 - x } else { x };
+                s += img.get(x, y).x;
+            }
+        }
+        s
+    };
+    let (floor_l, floor_r) = (side(&floor, false), side(&floor, true));
+    let (light_l, light_r) = (side(&sky, false), side(&sky, true));
+    assert!(
+        floor_r > 1.2 * floor_l,
+        "the floor is brighter at +x, under the white half: {floor_l} vs {floor_r}"
+    );
+    assert!(
+        light_l > 2.0 * light_r,
+        "looking up, the white half (+x) is on the image's left: {light_l} vs {light_r}"
     );
 }

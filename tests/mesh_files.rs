@@ -67,7 +67,8 @@ fn obj_with_mtl_maps_colours_lights_glass_mirrors_and_textures() {
         spec(1).emission,
         Some(EmissionSpec::Radiance {
             radiance: Rgb::new(3.0, 2.0, 1.0),
-            two_sided: false
+            two_sided: false,
+            texture: None,
         })
     );
     assert!(matches!(spec(2).spec, MaterialSpec::Glass { ior, .. } if (ior - 1.7).abs() < 1e-6));

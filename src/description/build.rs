@@ -4,7 +4,7 @@
 use super::mesh::{self, ImportedMaterial};
 use super::source::Diagnostic;
 use super::{
-    ColorSpec, ConductorSpec, DataTexture, EmissionSpec, EnvironmentSpec, Intensity, LightSpec,
+    ColorSpec, ConductorSpec, EmissionSpec, EnvironmentSpec, ImageRef, Intensity, LightSpec,
     MaterialSpec, SceneDesc, ShapeKind, ShapeSpec, Sky, compose,
 };
 use crate::camera::CameraDesc;
@@ -194,13 +194,13 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
         }
         MaterialSpec::Pbr(p) => {
             let (base, texture) = color(&p.base_color, base_dir)?;
-            let data = |t: &DataTexture| -> Result<Texture> {
+            let data = |t: &ImageRef| -> Result<Texture> {
                 Ok(Texture::Image(match t {
-                    DataTexture::File(f) => Arc::new(crate::io::texture::read_texture_as(
+                    ImageRef::File(f) => Arc::new(crate::io::texture::read_texture_as(
                         &base_dir.join(f),
                         Encoding::Linear,
                     )?),
-                    DataTexture::Decoded(d) => d.0.clone(),
+                    ImageRef::Decoded(d) => d.0.clone(),
                 }))
             };
             let maps = TextureMaps {
@@ -249,14 +249,22 @@ fn environment_light(e: &EnvironmentSpec, base_dir: &Path) -> Result<Environment
 }
 
 /// Radiance of an emission spec over a surface of world-space `area`.
-fn radiance(e: &EmissionSpec, area: f32) -> Result<Emission> {
-    Ok(match *e {
+fn radiance(e: &EmissionSpec, area: f32, base_dir: &Path) -> Result<Emission> {
+    Ok(match e {
         EmissionSpec::Radiance {
             radiance,
             two_sided,
+            texture,
         } => Emission {
-            radiance,
-            two_sided,
+            radiance: *radiance,
+            two_sided: *two_sided,
+            texture: match texture {
+                None => None,
+                Some(ImageRef::File(f)) => Some(Arc::new(crate::io::texture::read_texture(
+                    &base_dir.join(f),
+                )?)),
+                Some(ImageRef::Decoded(t)) => Some(t.0.clone()),
+            },
         },
         EmissionSpec::Power { power, two_sided } => {
             if area.is_nan() || area <= 0.0 {
@@ -265,10 +273,11 @@ fn radiance(e: &EmissionSpec, area: f32) -> Result<Emission> {
                 ));
             }
             // Φ = L · π · A per lit side (Lambertian emitter).
-            let sides = if two_sided { 2.0 } else { 1.0 };
+            let sides = if *two_sided { 2.0 } else { 1.0 };
             Emission {
-                radiance: power / (sides * PI * area),
-                two_sided,
+                radiance: *power / (sides * PI * area),
+                two_sided: *two_sided,
+                texture: None,
             }
         }
     })
@@ -351,6 +360,7 @@ fn add_shape(b: &mut SceneBuilder, ctx: &mut Context, s: &ShapeSpec) -> Result<(
                 Some(e) => Some(radiance(
                     e,
                     mesh_area(&quad_mesh(&[world]), &Affine3A::IDENTITY),
+                    ctx.base_dir,
                 )?),
                 None => None,
             };
@@ -421,12 +431,15 @@ fn add_mesh_file(
             }
             (Some(_), _) | (None, None) => (
                 ctx.material(b, s.material.as_deref(), s.emission.is_some())?,
-                s.emission,
+                s.emission.clone(),
             ),
-            (None, Some(im)) => (imported(b, ctx, &path, im)?, s.emission.or(im.emission)),
+            (None, Some(im)) => (
+                imported(b, ctx, &path, im)?,
+                s.emission.clone().or_else(|| im.emission.clone()),
+            ),
         };
         let emission = match &emission {
-            Some(e) => Some(radiance(e, mesh_area(mesh, m))?),
+            Some(e) => Some(radiance(e, mesh_area(mesh, m), ctx.base_dir)?),
             None => None,
         };
         b.triangle_mesh(mesh, *m, material, emission)?;
@@ -479,7 +492,7 @@ fn analytic(
         .transformed(m)
         .map_err(|e| Error::InvalidScene(e.to_owned()))?;
     let emission = match &s.emission {
-        Some(e) => Some(radiance(e, world.area())?),
+        Some(e) => Some(radiance(e, world.area(), ctx.base_dir)?),
         None => None,
     };
     // Already in world space: the identity keeps the analytic shape bit-exact.
@@ -496,7 +509,7 @@ fn add_mesh(
 ) -> Result<()> {
     let material = ctx.material(b, s.material.as_deref(), s.emission.is_some())?;
     let emission = match &s.emission {
-        Some(e) => Some(radiance(e, mesh_area(mesh, m))?),
+        Some(e) => Some(radiance(e, mesh_area(mesh, m), ctx.base_dir)?),
         None => None,
     };
     b.triangle_mesh(mesh, *m, material, emission)?;

@@ -120,14 +120,15 @@ pub struct PbrSpec {
     /// Perceptual: GGX α = roughness².
     pub roughness: f32,
     /// Linear texture: blue multiplies `metallic`, green `roughness`.
-    pub metallic_roughness: Option<DataTexture>,
+    pub metallic_roughness: Option<ImageRef>,
     /// Tangent-space normal map and the scale of its x and y.
-    pub normal_map: Option<(DataTexture, f32)>,
+    pub normal_map: Option<(ImageRef, f32)>,
 }
 
-/// A texture holding data, not colour (read without sRGB decoding).
+/// An image a material or emitter names: a file, or one already decoded. Colour images
+/// (emission) are read as sRGB, data (metallic-roughness, normal maps) as linear values.
 #[derive(Clone, Debug, PartialEq)]
-pub enum DataTexture {
+pub enum ImageRef {
     File(PathBuf),
     /// Already in memory (glTF embedded images); never written to TOML.
     Decoded(SharedTexture),
@@ -182,10 +183,14 @@ impl PartialEq for SharedTexture {
 }
 
 /// Light leaving a surface, given as radiance or as total power.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum EmissionSpec {
-    /// W·m⁻²·sr⁻¹ per channel.
-    Radiance { radiance: Rgb, two_sided: bool },
+    /// W·m⁻²·sr⁻¹ per channel, times an sRGB `texture` where there is one.
+    Radiance {
+        radiance: Rgb,
+        two_sided: bool,
+        texture: Option<ImageRef>,
+    },
     /// Total flux, W per channel, spread evenly over the surface.
     Power { power: Rgb, two_sided: bool },
 }

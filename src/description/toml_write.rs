@@ -3,7 +3,7 @@
 //! `f32`, so a written scene renders bit-identically.
 
 use super::{
-    ColorSpec, ConductorSpec, DataTexture, EmissionSpec, Intensity, LightSpec, MaterialSpec,
+    ColorSpec, ConductorSpec, EmissionSpec, ImageRef, Intensity, LightSpec, MaterialSpec,
     SceneDesc, ShapeKind, ShapeSpec, Sky, TransformStep,
 };
 use crate::error::{Error, Result};
@@ -275,10 +275,10 @@ impl Writer {
         })
     }
 
-    fn data_texture(&self, t: &DataTexture) -> Result<String> {
+    fn data_texture(&self, t: &ImageRef) -> Result<String> {
         match t {
-            DataTexture::File(f) => Ok(self.path(f)),
-            DataTexture::Decoded(_) => Err(embedded_texture()),
+            ImageRef::File(f) => Ok(self.path(f)),
+            ImageRef::Decoded(_) => Err(embedded_texture()),
         }
     }
 
@@ -299,20 +299,31 @@ impl Writer {
             self.kv("transform", &format!("[{}]", steps.join(", ")));
         }
         if let Some(e) = &s.emission {
-            let (k, c, two_sided) = match *e {
+            let (k, c, two_sided, texture) = match e {
                 EmissionSpec::Radiance {
                     radiance,
                     two_sided,
-                } => ("radiance", radiance, two_sided),
-                EmissionSpec::Power { power, two_sided } => ("power", power, two_sided),
+                    texture,
+                } => ("radiance", *radiance, *two_sided, texture.as_ref()),
+                EmissionSpec::Power { power, two_sided } => ("power", *power, *two_sided, None),
             };
+            // A texture embedded in a glTF file cannot be written; it is left out (warned
+            // about by `to_toml`'s caller through the material, which cannot be written either).
+            let texture = texture.and_then(|t| match t {
+                ImageRef::File(f) => Some(format!(", texture = {}", self.path(f))),
+                ImageRef::Decoded(_) => None,
+            });
+            let texture = texture.unwrap_or_default();
             if is_light {
                 self.kv(k, &vec3(c));
                 self.kv("two_sided", &two_sided.to_string());
+                if let Some(t) = texture.strip_prefix(", texture = ") {
+                    self.kv("texture", t);
+                }
             } else {
                 self.kv(
                     "emission",
-                    &format!("{{ {k} = {}, two_sided = {two_sided} }}", vec3(c)),
+                    &format!("{{ {k} = {}, two_sided = {two_sided}{texture} }}", vec3(c)),
                 );
             }
         }

@@ -11,6 +11,22 @@ pub struct Triangle {
 }
 
 impl Triangle {
+    /// Barycentric coordinates (b1, b2) of a point of the triangle's plane: p = p0 + b1 e1 + b2 e2.
+    pub fn barycentrics(&self, p: Vec3) -> crate::math::Vec2 {
+        let d = p - self.p0;
+        let (d11, d12, d22) = (
+            self.e1.dot(self.e1),
+            self.e1.dot(self.e2),
+            self.e2.dot(self.e2),
+        );
+        let (d1, d2) = (d.dot(self.e1), d.dot(self.e2));
+        let det = d11 * d22 - d12 * d12;
+        if det == 0.0 {
+            return crate::math::Vec2::ZERO;
+        }
+        crate::math::Vec2::new((d22 * d1 - d12 * d2) / det, (d11 * d2 - d12 * d1) / det)
+    }
+
     pub fn new(p0: Vec3, p1: Vec3, p2: Vec3) -> Self {
         Self {
             p0,

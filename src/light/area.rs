@@ -1,11 +1,14 @@
 use super::{LightSample, PhotonEmission};
-use crate::geometry::Shape;
+use crate::geometry::{Shape, ShapeHit};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution1D, cosine_hemisphere};
+use crate::texture::ImageTexture;
 use std::f32::consts::PI;
+use std::sync::Arc;
 
-/// A diffuse (Lambertian) emitter made of one or more shapes with constant radiance.
-/// One-sided lights emit on the side their normals face.
+/// A diffuse (Lambertian) emitter made of one or more shapes with constant radiance, or
+/// radiance times a texture (glTF's emissive textures). One-sided lights emit on the side
+/// their normals face.
 #[derive(Clone, Debug)]
 pub struct AreaLight {
     pub shapes: Vec<Shape>,
@@ -13,6 +16,18 @@ pub struct AreaLight {
     pub two_sided: bool,
     area: f32,
     by_area: Distribution1D,
+    texture: Option<EmissionTexture>,
+}
+
+/// An emitter's texture and the texture coordinates of its shapes.
+#[derive(Clone, Debug)]
+struct EmissionTexture {
+    image: Arc<ImageTexture>,
+    /// Per shape, its vertices' coordinates (triangles of meshes with UVs); otherwise the
+    /// shape's own parametrisation, as for any texture ([`Shape::uv`]).
+    uvs: Option<Vec<[Vec2; 3]>>,
+    /// Mean of the texture over each shape, for the light's power.
+    power: Rgb,
 }
 
 impl AreaLight {
@@ -26,17 +41,77 @@ impl AreaLight {
             radiance,
             two_sided,
             by_area,
+            texture: None,
         })
+    }
+
+    /// The same light with its radiance multiplied by `image` at each point's texture
+    /// coordinates (`uvs`: per shape, as the scene keeps them).
+    pub fn with_texture(mut self, image: Arc<ImageTexture>, uvs: Option<Vec<[Vec2; 3]>>) -> Self {
+        let uvs = uvs.filter(|u| u.len() == self.shapes.len());
+        let mut texture = EmissionTexture {
+            image,
+            uvs,
+            power: Rgb::ZERO,
+        };
+        // ∫ texture dA by a fixed stratified grid over each shape (deterministic): 16 × 16 for
+        // a few shapes, down to 2 × 2 for meshes of 50k triangles and more (the power only
+        // chooses between lights and scales stored photons; photon fluxes use the texture at
+        // their own point, so they stay exact).
+        let grid = ((200_000.0 / self.shapes.len() as f64).sqrt() as usize).clamp(2, 16);
+        let mut sum = Rgb::ZERO;
+        for (i, shape) in self.shapes.iter().enumerate() {
+            let mut mean = Rgb::ZERO;
+            for a in 0..grid {
+                for b in 0..grid {
+                    let u = Vec2::new(
+                        (a as f32 + 0.5) / grid as f32,
+                        (b as f32 + 0.5) / grid as f32,
+                    );
+                    let p = shape.sample_area(u).p;
+                    mean += texture.at(shape, i, p);
+                }
+            }
+            sum += mean / (grid * grid) as f32 * shape.area();
+        }
+        texture.power = sum;
+        self.texture = Some(texture);
+        self
+    }
+
+    /// The radiance factor of a point `p` on shape `i` of the light: the texture there, or 1.
+    fn factor(&self, i: usize, p: Vec3) -> Rgb {
+        self.texture
+            .as_ref()
+            .map_or(Rgb::ONE, |t| t.at(&self.shapes[i], i, p))
+    }
+
+    /// Whether the radiance varies over the surface (then [`AreaLight::emitted_at`] needs the
+    /// hit's texture coordinates).
+    pub fn is_textured(&self) -> bool {
+        self.texture.is_some()
+    }
+
+    /// Radiance leaving a point with normal `n` and texture coordinates `uv` in direction `w`.
+    pub fn emitted_at(&self, n: Vec3, w: Vec3, uv: Vec2) -> Rgb {
+        let l = self.emitted(n, w);
+        match &self.texture {
+            Some(t) if l != Rgb::ZERO => l * t.image.eval(uv),
+            _ => l,
+        }
     }
 
     pub fn area(&self) -> f32 {
         self.area
     }
 
-    /// Φ = π A L for one side.
+    /// Φ = π ∫ L dA for one side (π A L untextured).
     pub fn power(&self) -> Rgb {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
-        self.radiance * (PI * self.area * sides)
+        match &self.texture {
+            Some(t) => self.radiance * t.power * (PI * sides),
+            None => self.radiance * (PI * self.area * sides),
+        }
     }
 
     /// Radiance leaving a point with normal `n` in direction `w`.
@@ -50,7 +125,8 @@ impl AreaLight {
 
     /// Uniform point on the area (density 1/A), cosine-weighted direction (density cos θ/π) on
     /// the emitting side, or on a side chosen at random for two-sided lights: every photon
-    /// carries flux L·cos θ / (cos θ/π · 1/A) = π A L, times two for two-sided lights.
+    /// carries flux L·cos θ / (cos θ/π · 1/A) = π A L (L at its point), times two for
+    /// two-sided lights.
     pub fn emit(&self, u_pick: f32, u_pos: Vec2, u_dir: Vec2) -> Option<PhotonEmission> {
         let (i, rest) = self.by_area.sample(u_pick);
         let s = self.shapes[i].sample_area(u_pos);
@@ -67,7 +143,7 @@ impl AreaLight {
             origin: s.p,
             dir: Frame::from_normal(normal).to_world(local),
             normal: s.n,
-            flux: self.radiance * (std::f32::consts::PI * self.area * sides),
+            flux: self.radiance * self.factor(i, s.p) * (std::f32::consts::PI * self.area * sides),
         })
     }
 
@@ -81,7 +157,7 @@ impl AreaLight {
             return None;
         }
         let wi = d / dist2.sqrt();
-        let radiance = self.emitted(s.n, -wi);
+        let radiance = self.emitted(s.n, -wi) * self.factor(i, s.p);
         if radiance == Rgb::ZERO {
             return None;
         }
@@ -106,5 +182,23 @@ impl AreaLight {
             return 0.0;
         }
         dist2 / (cos * self.area)
+    }
+}
+
+impl EmissionTexture {
+    /// The texture at point `p` of shape `i`.
+    fn at(&self, shape: &Shape, i: usize, p: Vec3) -> Rgb {
+        let bary = match shape {
+            Shape::Triangle(t) => t.barycentrics(p),
+            _ => Vec2::ZERO,
+        };
+        let uv = match &self.uvs {
+            Some(uvs) => {
+                let [a, b, c] = uvs[i];
+                (1.0 - bary.x - bary.y) * a + bary.x * b + bary.y * c
+            }
+            None => shape.uv(&ShapeHit { t: 0.0, uv: bary }, p),
+        };
+        self.image.eval(uv)
     }
 }

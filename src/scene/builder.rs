@@ -9,12 +9,15 @@ use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
 use crate::texture::Texture;
 use glam::Affine3A;
+use std::sync::Arc;
 
-/// Light emitted by an object's surface: constant radiance (W·m⁻²·sr⁻¹), one- or two-sided.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Light emitted by an object's surface: radiance (W·m⁻²·sr⁻¹), times an sRGB texture
+/// looked up at the object's texture coordinates where there is one; one- or two-sided.
+#[derive(Clone, Debug)]
 pub struct Emission {
     pub radiance: Rgb,
     pub two_sided: bool,
+    pub texture: Option<Arc<crate::texture::ImageTexture>>,
 }
 
 struct Object {
@@ -382,7 +385,12 @@ impl SceneBuilder {
                             e.radiance
                         ));
                     }
-                    match AreaLight::new(o.shapes.clone(), e.radiance, e.two_sided) {
+                    let light = AreaLight::new(o.shapes.clone(), e.radiance, e.two_sided);
+                    let light = match (light, e.texture) {
+                        (Some(l), Some(t)) => Some(l.with_texture(t, o.uvs.clone())),
+                        (l, _) => l,
+                    };
+                    match light {
                         Some(l) => {
                             lights.push(Light::Area(l));
                             (lights.len() - 1) as u32

@@ -272,6 +272,7 @@ impl Scene {
             return Rgb::ZERO;
         }
         match &self.lights[hit.light as usize] {
+            Light::Area(l) if l.is_textured() => l.emitted_at(hit.ng, w, self.texture_uv(hit)),
             Light::Area(l) => l.emitted(hit.ng, w),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => {
                 Rgb::ZERO

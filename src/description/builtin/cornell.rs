@@ -172,6 +172,7 @@ pub fn desc() -> SceneDesc {
         emission: Some(EmissionSpec::Radiance {
             radiance: Rgb::from_array(LIGHT_RADIANCE),
             two_sided: false,
+            texture: None,
         }),
     }));
     d

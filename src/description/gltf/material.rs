@@ -3,9 +3,7 @@
 
 use super::{Opened, Sink, read_uri};
 use crate::description::mesh::ImportedMaterial;
-use crate::description::{
-    ColorSpec, DataTexture, EmissionSpec, MaterialSpec, PbrSpec, SharedTexture,
-};
+use crate::description::{ColorSpec, EmissionSpec, ImageRef, MaterialSpec, PbrSpec, SharedTexture};
 use crate::error::Result;
 use crate::io::texture::Encoding;
 use crate::math::Rgb;
@@ -66,7 +64,7 @@ pub(super) fn convert_material(
             None => ColorSpec::Constant(base),
         };
         let metallic_roughness = match pbr.metallic_roughness_texture() {
-            Some(info) => Some(DataTexture::Decoded(SharedTexture(texture(
+            Some(info) => Some(ImageRef::Decoded(SharedTexture(texture(
                 g,
                 sink,
                 &info,
@@ -80,7 +78,7 @@ pub(super) fn convert_material(
                     sink.warn("textures on texture coordinate sets other than 0 use set 0");
                 }
                 let t = texture_of(g, sink, &n.texture(), Encoding::Linear)?;
-                Some((DataTexture::Decoded(SharedTexture(t)), n.scale()))
+                Some((ImageRef::Decoded(SharedTexture(t)), n.scale()))
             }
             None => None,
         };
@@ -93,12 +91,18 @@ pub(super) fn convert_material(
         })
     };
     let emitted = Rgb::from_array(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
-    if m.emissive_texture().is_some() {
-        sink.warn("emissive textures are ignored (the emissive factor is used)");
-    }
+    // An emissive texture multiplies the factor (sRGB, as the spec defines it): the surface
+    // becomes an area light whose radiance varies with it.
+    let emissive_texture = match m.emissive_texture() {
+        Some(info) if emitted.max_element() > 0.0 => Some(ImageRef::Decoded(SharedTexture(
+            texture(g, sink, &info, Encoding::Srgb)?,
+        ))),
+        _ => None,
+    };
     let emission = (emitted.max_element() > 0.0).then_some(EmissionSpec::Radiance {
         radiance: emitted,
         two_sided: m.double_sided(),
+        texture: emissive_texture,
     });
     Ok(ImportedMaterial {
         name,

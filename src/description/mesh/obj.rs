@@ -118,6 +118,7 @@ fn convert(m: &tobj::Material, warnings: &mut Vec<String>) -> ImportedMaterial {
         .map(|radiance| EmissionSpec::Radiance {
             radiance,
             two_sided: false,
+            texture: None,
         });
     ImportedMaterial {
         name: m.name.clone(),

@@ -3,7 +3,7 @@
 use super::values::{Table, Value, array, color, float, floats, integer, str_of};
 use crate::description::source::did_you_mean;
 use crate::description::{
-    CameraSpec, ColorSpec, ConductorSpec, DataTexture, GATHER_MODES, INTEGRATORS, KERNELS,
+    CameraSpec, ColorSpec, ConductorSpec, GATHER_MODES, INTEGRATORS, ImageRef, KERNELS,
     MaterialSpec, PbrSpec, RenderSpec,
 };
 use crate::error::{Error, Result};
@@ -196,9 +196,9 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
                 None => ColorSpec::Constant(Rgb::splat(0.8)),
                 Some(v) => color_spec(t, v)?,
             };
-            let data = |key: &str| -> Result<Option<DataTexture>> {
+            let data = |key: &str| -> Result<Option<ImageRef>> {
                 t.get(key)
-                    .map(|v| t.cx.file(v, &t.label(key)).map(DataTexture::File))
+                    .map(|v| t.cx.file(v, &t.label(key)).map(ImageRef::File))
                     .transpose()
             };
             let normal_map = data("normal_map")?;

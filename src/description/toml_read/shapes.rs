@@ -3,7 +3,8 @@
 use super::scene::bad_type;
 use super::values::{Cx, Table, Value, array, float, floats, integer, vec3};
 use crate::description::{
-    EmissionSpec, EnvironmentSpec, Intensity, LightSpec, ShapeKind, ShapeSpec, Sky, TransformStep,
+    EmissionSpec, EnvironmentSpec, ImageRef, Intensity, LightSpec, ShapeKind, ShapeSpec, Sky,
+    TransformStep,
 };
 use crate::error::Result;
 use crate::math::{Vec2, Vec3};
@@ -37,7 +38,7 @@ pub(super) fn shape(t: &Table, names: &[&str], is_light: bool) -> Result<ShapeSp
     }
     let mut allowed = vec!["type", "material", "transform"];
     if is_light {
-        allowed.extend(["radiance", "power", "two_sided"]);
+        allowed.extend(["radiance", "power", "two_sided", "texture"]);
     } else {
         allowed.push("emission");
     }
@@ -95,7 +96,7 @@ pub(super) fn shape(t: &Table, names: &[&str], is_light: bool) -> Result<ShapeSp
         match t.get("emission") {
             Some(v) => {
                 let et = t.cx.table(v, &t.label("emission"))?;
-                et.allow(&["radiance", "power", "two_sided"])?;
+                et.allow(&["radiance", "power", "two_sided", "texture"])?;
                 Some(emission(&et)?)
             }
             None => None,
@@ -132,10 +133,21 @@ pub(super) fn nonzero(t: &Table, key: &str, default: Vec3) -> Result<Vec3> {
 
 pub(super) fn emission(t: &Table) -> Result<EmissionSpec> {
     let two_sided = t.opt_bool("two_sided")?.unwrap_or(false);
+    let texture = t
+        .get("texture")
+        .map(|v| t.cx.file(v, &t.label("texture")).map(ImageRef::File))
+        .transpose()?;
+    if texture.is_some() && t.get("power").is_some() {
+        return Err(t.cx.err(
+            t.get("texture").map_or(0..0, |v| v.span()),
+            "an emission 'texture' multiplies 'radiance'; give 'radiance', not 'power'",
+        ));
+    }
     match (t.opt_color("radiance")?, t.opt_color("power")?) {
         (Some(radiance), None) => Ok(EmissionSpec::Radiance {
             radiance,
             two_sided,
+            texture,
         }),
         (None, Some(power)) => Ok(EmissionSpec::Power { power, two_sided }),
         (Some(_), Some(_)) => Err(t.cx.err(
