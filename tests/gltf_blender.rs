@@ -260,3 +260,41 @@ fn blender_files_render_from_the_command_line() {
         "quarter the sky, quarter the light: {ratio}"
     );
 }
+
+/// The same scene exported with Blender's MikkTSpace tangents (`TANGENT`): the normal map
+/// bends the normals as it does with the tangents Photon makes from the UVs, on the flat quad
+/// and on the sphere (where MikkTSpace's per-vertex tangents and ours per triangle differ only
+/// by their smoothing).
+#[test]
+fn blender_tangents_agree_with_tangents_from_the_uvs() {
+    let (own, _) = load_scene(&fixture("textured-pbr.glb")).expect("loads");
+    let (file, _) = load_scene(&fixture("textured-pbr-tangents.glb")).expect("loads");
+    let mut compared = 0;
+    let mut worst = 0.0f32;
+    for i in 0..80 {
+        for j in 0..60 {
+            let (x, y) = (-2.4 + 0.06 * i as f32, 0.05 + 0.04 * j as f32);
+            let ray = Ray::new(Vec3::new(x, y, 10.0), Vec3::new(0.0, 0.0, -1.0));
+            let (Some(a), Some(b)) = (
+                own.intersect(&ray, f32::INFINITY),
+                file.intersect(&ray, f32::INFINITY),
+            ) else {
+                continue;
+            };
+            // Horizontal rays above the ground meet only the textured sphere and quad.
+            let (na, nb) = (
+                own.surface(&a, -ray.dir).1.n,
+                file.surface(&b, -ray.dir).1.n,
+            );
+            worst = worst.max(1.0 - na.dot(nb));
+            compared += 1;
+        }
+    }
+    assert!(compared > 500, "{compared} points on the textured objects");
+    // cos 8°: per-vertex against per-triangle tangents on a 32 × 16 sphere.
+    assert!(
+        worst < 1.0 - 0.99,
+        "normals differ by up to {}°",
+        (1.0 - worst).acos().to_degrees()
+    );
+}

@@ -476,6 +476,7 @@ fn smooth_mesh(mesh: &PolyMesh) -> TriangleMesh {
         positions: mesh.positions.iter().map(|p| p.as_vec3()).collect(),
         normals: mesh.vertex_normals().iter().map(|n| n.as_vec3()).collect(),
         uvs: Vec::new(),
+        tangents: Vec::new(),
         triangles: mesh.triangles(),
     }
 }

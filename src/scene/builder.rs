@@ -26,6 +26,8 @@ struct Object {
     normals: Option<Vec<[Vec3; 3]>>,
     /// Per-vertex texture coordinates of each triangle, parallel to `shapes`.
     uvs: Option<Vec<[Vec2; 3]>>,
+    /// Per-vertex tangents of each triangle (world space, w the bitangent's sign).
+    tangents: Option<Vec<[glam::Vec4; 3]>>,
     material: u32,
     emission: Option<Emission>,
 }
@@ -128,6 +130,7 @@ impl SceneBuilder {
             shapes,
             normals: None,
             uvs: None,
+            tangents: None,
             material,
             emission,
         });
@@ -164,6 +167,7 @@ impl SceneBuilder {
             positions: positions.to_vec(),
             normals: normals.to_vec(),
             uvs: Vec::new(),
+            tangents: Vec::new(),
             triangles: triangles.to_vec(),
         };
         self.triangle_mesh(&mesh, transform, material, None)
@@ -182,6 +186,7 @@ impl SceneBuilder {
             positions: positions.to_vec(),
             normals: Vec::new(),
             uvs: Vec::new(),
+            tangents: Vec::new(),
             triangles: triangles.to_vec(),
         };
         self.triangle_mesh(&mesh, transform, material, emission)
@@ -198,7 +203,11 @@ impl SceneBuilder {
         emission: Option<Emission>,
     ) -> Result<&mut Self> {
         let n = mesh.positions.len();
-        for (what, len) in [("normals", mesh.normals.len()), ("uvs", mesh.uvs.len())] {
+        for (what, len) in [
+            ("normals", mesh.normals.len()),
+            ("uvs", mesh.uvs.len()),
+            ("tangents", mesh.tangents.len()),
+        ] {
             if len != 0 && len != n {
                 return Err(Error::InvalidScene(format!(
                     "a mesh has {len} {what} for {n} vertices"
@@ -216,9 +225,25 @@ impl SceneBuilder {
             .iter()
             .map(|&v| Vec3::from(normal_matrix * glam::Vec3A::from(v)).normalize_or_zero())
             .collect();
+        // Tangents turn with the surface; a mirroring transform flips the bitangent's sign.
+        let flip = if transform.matrix3.determinant() < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        let world_tangents: Vec<glam::Vec4> = mesh
+            .tangents
+            .iter()
+            .map(|t| {
+                let v = Vec3::from(transform.matrix3 * glam::Vec3A::from(t.truncate()));
+                v.normalize_or_zero()
+                    .extend(if t.w < 0.0 { -flip } else { flip })
+            })
+            .collect();
         let mut shapes = Vec::with_capacity(mesh.triangles.len());
         let mut normals = Vec::new();
         let mut uvs = Vec::new();
+        let mut tangents = Vec::new();
         for (k, t) in mesh.triangles.iter().enumerate() {
             if let Some(&i) = t.iter().find(|&&i| i as usize >= n) {
                 return Err(Error::InvalidScene(format!(
@@ -235,12 +260,16 @@ impl SceneBuilder {
                 if !mesh.uvs.is_empty() {
                     uvs.push(t.map(|i| mesh.uvs[i as usize]));
                 }
+                if !world_tangents.is_empty() {
+                    tangents.push(t.map(|i| world_tangents[i as usize]));
+                }
             }
         }
         self.objects.push(Object {
             shapes,
             normals: (!normals.is_empty()).then_some(normals),
             uvs: (!uvs.is_empty()).then_some(uvs),
+            tangents: (!tangents.is_empty()).then_some(tangents),
             material,
             emission,
         });
@@ -275,6 +304,7 @@ impl SceneBuilder {
             shapes,
             normals: None,
             uvs: (!uvs.is_empty()).then_some(uvs),
+            tangents: None,
             material,
             emission,
         });
@@ -362,6 +392,8 @@ impl SceneBuilder {
         let mut vertex_normals = Vec::new();
         let mut prim_uvs = Vec::new();
         let mut vertex_uvs = Vec::new();
+        let mut prim_tangents = Vec::new();
+        let mut vertex_tangents = Vec::new();
         let mut lights = self.lights;
         for (i, o) in self.objects.into_iter().enumerate() {
             if o.material as usize >= self.materials.len() {
@@ -418,6 +450,16 @@ impl SceneBuilder {
                     }
                     _ => prim_uvs.push(NO_LIGHT),
                 }
+                match o.tangents.as_ref().and_then(|t| t.get(k)) {
+                    Some(t)
+                        if t.iter()
+                            .all(|v| v.is_finite() && v.truncate() != Vec3::ZERO) =>
+                    {
+                        vertex_tangents.push(*t);
+                        prim_tangents.push((vertex_tangents.len() - 1) as u32);
+                    }
+                    _ => prim_tangents.push(NO_LIGHT),
+                }
             }
         }
         let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
@@ -428,6 +470,7 @@ impl SceneBuilder {
         let prim_light = reorder(&prim_light);
         let prim_normals = reorder(&prim_normals);
         let prim_uvs = reorder(&prim_uvs);
+        let prim_tangents = reorder(&prim_tangents);
         let shapes = order.iter().map(|&i| shapes[i as usize]).collect();
         let powers: Vec<f64> = lights
             .iter()
@@ -450,6 +493,8 @@ impl SceneBuilder {
             vertex_normals,
             prim_uvs,
             vertex_uvs,
+            prim_tangents,
+            vertex_tangents,
             materials: self.materials,
             material_textures: self.material_textures,
             textures: self.textures,

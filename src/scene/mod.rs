@@ -7,13 +7,16 @@ mod builder;
 
 pub use builder::{Emission, SceneBuilder, TextureMaps};
 
-/// An indexed triangle mesh in object space, as read from a file or built in code. `normals`
-/// and `uvs` are per vertex and may be empty (flat shading, the triangle's own parametrisation).
+/// An indexed triangle mesh in object space, as read from a file or built in code. `normals`,
+/// `uvs` and `tangents` are per vertex and may be empty (flat shading, the triangle's own
+/// parametrisation, tangents from the UVs). A tangent is glTF's: xyz along +u, w the sign of
+/// the bitangent (w·n × t).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleMesh {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
+    pub tangents: Vec<glam::Vec4>,
     pub triangles: Vec<[u32; 3]>,
 }
 
@@ -82,6 +85,9 @@ pub struct Scene {
     /// Index into `vertex_uvs` per primitive, or `NO_LIGHT` for the shape's own parametrisation.
     prim_uvs: Vec<u32>,
     vertex_uvs: Vec<[Vec2; 3]>,
+    /// Index into `vertex_tangents` per primitive, or `NO_LIGHT` for tangents from the UVs.
+    prim_tangents: Vec<u32>,
+    vertex_tangents: Vec<[glam::Vec4; 3]>,
     materials: Vec<Material>,
     /// The textures of each material (parallel to `materials`).
     material_textures: Vec<MaterialMaps>,
@@ -211,9 +217,10 @@ impl Scene {
     }
 
     /// The shading normal bent by a tangent-space normal map, on triangles with texture
-    /// coordinates. The tangent frame is the triangle's own: the tangent along ∂p/∂u (made
-    /// orthogonal to the interpolated normal), the bitangent along ∂p/∂v (glTF's convention,
-    /// green up, with our v growing up the image). `None` where there is no frame, or where
+    /// coordinates. The tangent frame is the file's tangents where it has them (glTF
+    /// `TANGENT`), else the triangle's own: the tangent along ∂p/∂u (made orthogonal to the
+    /// interpolated normal), the bitangent along ∂p/∂v (glTF's convention, green up, with our
+    /// v growing up the image). `None` where there is no frame, or where
     /// the map would turn the normal past the surface.
     fn normal_mapped(&self, hit: &Hit, texture: u32, scale: f32) -> Option<Vec3> {
         let Shape::Triangle(tri) = &self.shapes[hit.prim as usize] else {
@@ -232,11 +239,28 @@ impl Scene {
         let dpdu = (tri.e1 * d2.y - tri.e2 * d1.y) / det;
         let dpdv = (tri.e2 * d1.x - tri.e1 * d2.x) / det;
         let n = hit.ns;
-        let tangent = (dpdu - n * n.dot(dpdu)).try_normalize()?;
-        let mut bitangent = n.cross(tangent);
-        if bitangent.dot(dpdv) < 0.0 {
-            bitangent = -bitangent;
-        }
+        let (tangent, bitangent) = match self.prim_tangents[hit.prim as usize] {
+            // The file's tangents (glTF: interpolated, bitangent w·n × t).
+            k if k != NO_LIGHT => {
+                let [t0, t1, t2] = self.vertex_tangents[k as usize];
+                let (b1, b2) = (hit.barycentrics.x, hit.barycentrics.y);
+                let t = ((1.0 - b1 - b2) * t0 + b1 * t1 + b2 * t2).truncate();
+                let tangent = (t - n * n.dot(t)).try_normalize()?;
+                (tangent, n.cross(tangent) * t0.w.signum())
+            }
+            _ => {
+                let tangent = (dpdu - n * n.dot(dpdu)).try_normalize()?;
+                let bitangent = n.cross(tangent);
+                (
+                    tangent,
+                    if bitangent.dot(dpdv) < 0.0 {
+                        -bitangent
+                    } else {
+                        bitangent
+                    },
+                )
+            }
+        };
         let t = self.textures[texture as usize].eval(self.texture_uv(hit)) * 2.0 - Rgb::ONE;
         let mapped =
             (tangent * (t.x * scale) + bitangent * (t.y * scale) + n * t.z).try_normalize()?;

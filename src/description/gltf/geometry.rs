@@ -133,6 +133,10 @@ fn read_primitive(g: &Opened, p: &gltf::Primitive, what: &str) -> Result<Triangl
     if let Some(n) = &normals {
         check_accessor(g, n, what, &[Dimensions::Vec3], &[DataType::F32])?;
     }
+    let tangents = p.get(&Semantic::Tangents);
+    if let Some(t) = &tangents {
+        check_accessor(g, t, what, &[Dimensions::Vec4], &[DataType::F32])?;
+    }
     let uvs = p.get(&Semantic::TexCoords(0));
     if let Some(t) = &uvs {
         check_accessor(
@@ -165,6 +169,9 @@ fn read_primitive(g: &Opened, p: &gltf::Primitive, what: &str) -> Result<Triangl
     if let Some(it) = reader.read_normals() {
         mesh.normals = it.map(Vec3::from_array).collect();
     }
+    if let Some(it) = reader.read_tangents() {
+        mesh.tangents = it.map(glam::Vec4::from_array).collect();
+    }
     if let Some(it) = reader.read_tex_coords(0) {
         // glTF's (0, 0) is the image's top-left corner; ours is the bottom-left.
         mesh.uvs = it.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect();
@@ -187,6 +194,9 @@ fn read_primitive(g: &Opened, p: &gltf::Primitive, what: &str) -> Result<Triangl
     }
     if mesh.uvs.len() != n {
         mesh.uvs.clear();
+    }
+    if mesh.tangents.len() != n {
+        mesh.tangents.clear();
     }
     Ok(mesh)
 }

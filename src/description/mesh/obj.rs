@@ -73,6 +73,7 @@ pub fn read(path: &Path) -> Result<MeshFile> {
                 positions,
                 normals,
                 uvs,
+                tangents: Vec::new(),
                 triangles,
             },
             material,

@@ -180,6 +180,7 @@ pub fn read(path: &Path) -> Result<MeshFile> {
                 positions,
                 normals,
                 uvs,
+                tangents: Vec::new(),
                 triangles,
             },
             material: None,

@@ -223,6 +223,7 @@ pub(super) fn inline_mesh(t: &Table) -> Result<TriangleMesh> {
         positions,
         normals,
         uvs,
+        tangents: Vec::new(),
         triangles,
     })
 }
