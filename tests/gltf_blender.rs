@@ -179,6 +179,39 @@ fn blender_textures_and_normal_map_are_applied() {
     }
 }
 
+/// `photon render` of a fixture at a tiny size into `out`, with `extra` flags.
+fn render_fixture(
+    dir: &std::path::Path,
+    name: &str,
+    extra: &[&str],
+    out: &std::path::Path,
+) -> String {
+    let fixture = fixture(name);
+    let out = out.to_str().expect("utf-8");
+    let mut args = vec![
+        "render",
+        &fixture,
+        "--width",
+        "24",
+        "--height",
+        "18",
+        "--spp",
+        "2",
+        "--photons",
+        "20000",
+        "--caustic-photons",
+        "20000",
+        "-q",
+        "-o",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    let o = common::photon(&args, dir);
+    let err = common::stderr(&o);
+    assert!(o.status.success(), "{name}: {err}");
+    err
+}
+
 /// End to end, as a user would: each file renders from the command line; the one without
 /// lights warns and is lit (not black), and `--env` replaces its sky.
 #[test]
@@ -191,28 +224,7 @@ fn blender_files_render_from_the_command_line() {
         "textured-pbr.glb",
     ] {
         let out = dir.join(name.replace(".glb", ".exr"));
-        let o = common::photon(
-            &[
-                "render",
-                &fixture(name),
-                "--width",
-                "24",
-                "--height",
-                "18",
-                "--spp",
-                "2",
-                "--photons",
-                "20000",
-                "--caustic-photons",
-                "20000",
-                "-q",
-                "-o",
-                out.to_str().expect("utf-8"),
-            ],
-            &dir,
-        );
-        let err = common::stderr(&o);
-        assert!(o.status.success(), "{name}: {err}");
+        let err = render_fixture(&dir, name, &[], &out);
         let mean = photon::io::image::read_image(&out)
             .expect("reads")
             .mean()
@@ -225,29 +237,7 @@ fn blender_files_render_from_the_command_line() {
     // A dimmer sky through --env: the image follows.
     let bright = dir.join("metal-glass-nolight.exr");
     let dim = dir.join("dim.exr");
-    let o = common::photon(
-        &[
-            "render",
-            &fixture("metal-glass-nolight.glb"),
-            "--width",
-            "24",
-            "--height",
-            "18",
-            "--spp",
-            "2",
-            "--photons",
-            "20000",
-            "--caustic-photons",
-            "20000",
-            "--env",
-            "0.25",
-            "-q",
-            "-o",
-            dim.to_str().expect("utf-8"),
-        ],
-        &dir,
-    );
-    assert!(o.status.success(), "{}", common::stderr(&o));
+    render_fixture(&dir, "metal-glass-nolight.glb", &["--env", "0.25"], &dim);
     let (b, d) = (
         photon::io::image::read_image(&bright)
             .expect("reads")
