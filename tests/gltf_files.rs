@@ -73,7 +73,7 @@ fn test_gltf() -> Vec<u8> {
     let h = std::f32::consts::FRAC_1_SQRT_2;
     let doc = json!({
         "asset": {"version": "2.0", "generator": "photon tests"},
-        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength", "KHR_texture_transform"],
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength", "KHR_texture_transform", "KHR_materials_specular"],
         "extensions": {"KHR_lights_punctual": {"lights": [
             {"type": "point", "color": [1.0, 0.5, 0.25], "intensity": 683.0},
             {"type": "spot", "intensity": 1366.0, "spot": {"innerConeAngle": 0.3, "outerConeAngle": 0.5}}
@@ -98,7 +98,7 @@ fn test_gltf() -> Vec<u8> {
             {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0}, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.45}}},
             {"name": "mirror", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1.0], "metallicFactor": 1.0, "roughnessFactor": 0.0}},
             {"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0], "emissiveTexture": {"index": 0}, "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}, "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}},
-            {"name": "blue", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0], "metallicFactor": 0.0}, "alphaMode": "BLEND"},
+            {"name": "blue", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0], "metallicFactor": 0.0}, "alphaMode": "BLEND", "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}},
             {"name": "image", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.0]}}}}}
         ],
         "meshes": [prim(0), prim(1), prim(2), prim(3), prim(4)],
@@ -188,11 +188,13 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
     assert!(
         matches!(s.material_at(&probe(-0.5, 0.0).expect("mirror")), Material::Pbr(m) if (m.base_color.x - 0.9).abs() < 1e-6 && m.metallic == 1.0 && m.lobes().is_specular())
     );
-    // glTF's default roughness is 1.
+    // glTF's default roughness is 1; KHR_materials_specular's factor 0 takes the coat away,
+    // leaving a diffuse surface.
     let blue = s.material_at(&probe(1.5, 0.0).expect("blue"));
     assert!(
-        matches!(blue, Material::Pbr(p) if p.base_color == Rgb::new(0.2, 0.4, 0.6) && p.metallic == 0.0 && p.roughness == 1.0)
+        matches!(blue, Material::Pbr(p) if p.base_color == Rgb::new(0.2, 0.4, 0.6) && p.metallic == 0.0 && p.roughness == 1.0 && p.specular == 0.0)
     );
+    assert_eq!(blue.lobes(), photon::material::Lobes::DIFFUSE_REFLECTION);
     // The rotated blue quad keeps facing +z; its normal is turned by the node's rotation.
     assert!((probe(1.5, 0.0).expect("blue").ns - Vec3::Z).length() < 1e-5);
     // The textured quad: the 2×1 image across it, shifted half a width by the texture
@@ -251,14 +253,24 @@ fn mean(img: &Image, x0: u32, x1: u32, y0: u32, y1: u32) -> Rgb {
 fn blender_seed_scene_renders_with_the_seed_framing_and_walls() {
     let path = common::shared_dir().join("seed/seed_scene.glb");
     let loaded = import_scene(&path).expect("imports the Blender export");
-    // Blender writes KHR_materials_volume and _specular; neither is silently dropped.
-    for ext in ["KHR_materials_volume", "KHR_materials_specular"] {
-        assert!(
-            loaded.warnings.iter().any(|w| w.contains(ext)),
-            "{:?}",
-            loaded.warnings
-        );
-    }
+    // Blender writes KHR_materials_volume and _specular: the volume is not silently dropped,
+    // and the specular factor 0 it gives its diffuse surfaces is used (no warning).
+    assert!(
+        loaded
+            .warnings
+            .iter()
+            .any(|w| w.contains("KHR_materials_volume")),
+        "{:?}",
+        loaded.warnings
+    );
+    assert!(
+        !loaded
+            .warnings
+            .iter()
+            .any(|w| w.contains("KHR_materials_specular")),
+        "{:?}",
+        loaded.warnings
+    );
     let seed = photon::description::builtin::desc("seed").expect("built-in");
     // glTF is y-up: (x, y, z) in the file is (x, −z, y) in the seed's z-up frame.
     let c = &loaded.desc.camera;

@@ -211,7 +211,8 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
                     None => None,
                 },
             };
-            b.material_with_maps(Material::Pbr(Pbr::new(base, p.metallic, p.roughness)), maps)?
+            let pbr = Pbr::new(base, p.metallic, p.roughness).with_specular(p.specular);
+            b.material_with_maps(Material::Pbr(pbr), maps)?
         }
     })
 }

@@ -119,6 +119,9 @@ pub struct PbrSpec {
     pub metallic: f32,
     /// Perceptual: GGX α = roughness².
     pub roughness: f32,
+    /// `KHR_materials_specular`'s factor: scales the dielectric coat (1: the plain glTF model,
+    /// 0: a dielectric without a coat, diffuse only).
+    pub specular: f32,
     /// Linear texture: blue multiplies `metallic`, green `roughness`.
     pub metallic_roughness: Option<ImageRef>,
     /// Tangent-space normal map and the scale of its x and y.

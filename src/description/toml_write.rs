@@ -81,6 +81,9 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 w.kv("base_color", &base);
                 w.kv("metallic", &float(p.metallic));
                 w.kv("roughness", &float(p.roughness));
+                if p.specular != 1.0 {
+                    w.kv("specular", &float(p.specular));
+                }
                 if let Some(t) = &p.metallic_roughness {
                     let v = w.data_texture(t)?;
                     w.kv("metallic_roughness", &v);

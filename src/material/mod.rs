@@ -188,6 +188,28 @@ impl Material {
         }
     }
 
+    /// The lobes of one part.
+    pub fn part_lobes(&self, part: Part) -> Lobes {
+        match self {
+            Material::Pbr(m) => m.part_lobes(part),
+            _ if self.has(part) => self.lobes(),
+            _ => Lobes::NONE,
+        }
+    }
+
+    /// The smallest GGX α among the material's glossy lobes in `part` (∞ without any).
+    pub fn glossy_alpha(&self, part: Part) -> f32 {
+        if !self.part_lobes(part).contains(Lobes::GLOSSY) {
+            return f32::INFINITY;
+        }
+        match self {
+            Material::Conductor(m) => m.ggx.alpha_x.min(m.ggx.alpha_y),
+            Material::RoughDielectric(m) => m.ggx.alpha(),
+            Material::Pbr(m) => m.ggx.alpha(),
+            _ => f32::INFINITY,
+        }
+    }
+
     /// True when every lobe is a delta: no density, so next-event estimation is pointless.
     pub fn is_specular(&self) -> bool {
         !self.lobes().has_density()

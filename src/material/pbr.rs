@@ -24,6 +24,9 @@ pub struct Pbr {
     pub metallic: f32,
     /// Perceptual roughness, as glTF's factor.
     pub roughness: f32,
+    /// `KHR_materials_specular`'s factor: scales the dielectric coat's Fresnel (F0 and F90);
+    /// 1 without the extension, 0 for no coat.
+    pub specular: f32,
     /// GGX of α = roughness² (isotropic).
     pub ggx: Ggx,
 }
@@ -43,12 +46,30 @@ impl Pbr {
             base_color,
             metallic: metallic.clamp(0.0, 1.0),
             roughness: r,
+            specular: 1.0,
             ggx: Ggx::isotropic(r * r),
         }
     }
 
-    fn f0(&self) -> Rgb {
-        Rgb::splat(DIELECTRIC_F0).lerp(self.base_color, self.metallic)
+    /// With its specular factor s (`KHR_materials_specular`), the coat of the glTF model.
+    pub fn with_specular(self, specular: f32) -> Self {
+        Self {
+            specular: specular.clamp(0.0, 1.0),
+            ..self
+        }
+    }
+
+    /// The dielectric coat's Fresnel at cosine `c`: s · Schlick(0.04).
+    fn dielectric_fresnel(&self, c: f32) -> f32 {
+        let c = c.clamp(0.0, 1.0);
+        self.specular * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * (1.0 - c).powi(5))
+    }
+
+    /// The specular lobe's Fresnel: the dielectric coat's and the metal's (Schlick from the
+    /// base colour), blended by `metallic`.
+    fn fresnel(&self, c: f32) -> Rgb {
+        Rgb::splat(self.dielectric_fresnel(c)) * (1.0 - self.metallic)
+            + schlick(self.base_color, c) * self.metallic
     }
 
     fn specular_lobe(&self) -> Lobes {
@@ -63,18 +84,42 @@ impl Pbr {
         self.metallic < 1.0
     }
 
+    /// A dielectric whose coat is switched off (`KHR_materials_specular` 0) is diffuse only.
+    fn has_specular(&self) -> bool {
+        self.metallic > 0.0 || self.specular > 0.0
+    }
+
     pub fn lobes(&self) -> Lobes {
-        if self.has_diffuse() {
-            Lobes::DIFFUSE_REFLECTION | self.specular_lobe()
-        } else {
+        let specular = if self.has_specular() {
             self.specular_lobe()
+        } else {
+            Lobes::NONE
+        };
+        if self.has_diffuse() {
+            Lobes::DIFFUSE_REFLECTION | specular
+        } else {
+            specular
         }
     }
 
     fn uses(&self, part: Part) -> Use {
         Use {
             diffuse: self.has_diffuse() && part.includes(Lobes::DIFFUSE_REFLECTION, 1.0),
-            specular: part.includes(self.specular_lobe(), self.ggx.alpha()),
+            specular: self.has_specular() && part.includes(self.specular_lobe(), self.ggx.alpha()),
+        }
+    }
+
+    pub fn part_lobes(&self, part: Part) -> Lobes {
+        let u = self.uses(part);
+        let d = if u.diffuse {
+            Lobes::DIFFUSE_REFLECTION
+        } else {
+            Lobes::NONE
+        };
+        if u.specular {
+            d | self.specular_lobe()
+        } else {
+            d
         }
     }
 
@@ -104,19 +149,19 @@ impl Pbr {
     /// Approximate albedos of the diffuse and specular lobes seen from `wo`.
     fn albedo_split(&self, wo: Vec3) -> (Rgb, Rgb) {
         let c = wo.z.abs();
-        let f_d = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * (1.0 - c).clamp(0.0, 1.0).powi(5);
+        let f_d = self.dielectric_fresnel(c);
         let diffuse = if self.has_diffuse() {
             self.base_color * ((1.0 - self.metallic) * (1.0 - f_d))
         } else {
             Rgb::ZERO
         };
-        (diffuse, schlick(self.f0(), c))
+        (diffuse, self.fresnel(c))
     }
 
     /// Reflectance of the specular lobe toward the mirror direction of `wo` (its weight when
     /// polished).
     pub fn coat_reflectance(&self, wo: Vec3) -> Rgb {
-        schlick(self.f0(), wo.z)
+        self.fresnel(wo.z)
     }
 
     pub fn albedo(&self, wo: Vec3, part: Part) -> Rgb {
@@ -134,12 +179,12 @@ impl Pbr {
         let v_dot_h = wo.dot(h).clamp(0.0, 1.0);
         let mut f = Rgb::ZERO;
         if u.diffuse {
-            let f_d = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * (1.0 - v_dot_h).powi(5);
+            let f_d = self.dielectric_fresnel(v_dot_h);
             f += self.base_color * ((1.0 - self.metallic) * (1.0 - f_d) * FRAC_1_PI);
         }
         if u.specular && !self.ggx.is_delta() {
             let dg = self.ggx.d(h) * self.ggx.g(wo, wi) / (4.0 * wo.z * wi.z);
-            f += schlick(self.f0(), v_dot_h) * dg;
+            f += self.fresnel(v_dot_h) * dg;
         }
         f
     }
@@ -171,7 +216,7 @@ impl Pbr {
         if specular && self.ggx.is_delta() {
             return Some(BsdfSample {
                 wi: Vec3::new(-wo.x, -wo.y, wo.z),
-                weight: schlick(self.f0(), wo.z) / p_spec,
+                weight: self.fresnel(wo.z) / p_spec,
                 pdf: p_spec,
                 lobe: Lobes::SPECULAR_REFLECTION,
             });

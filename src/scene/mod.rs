@@ -195,7 +195,9 @@ impl Scene {
                     metallic *= mr.z;
                     roughness *= mr.y;
                 }
-                Material::Pbr(Pbr::new(p.base_color * base, metallic, roughness))
+                Material::Pbr(
+                    Pbr::new(p.base_color * base, metallic, roughness).with_specular(p.specular),
+                )
             }
             _ => m,
         }

@@ -82,10 +82,23 @@ pub(super) fn convert_material(
             }
             None => None,
         };
+        let specular = match m.specular() {
+            Some(sp) => {
+                if sp.specular_color_factor() != [1.0, 1.0, 1.0]
+                    || sp.specular_texture().is_some()
+                    || sp.specular_color_texture().is_some()
+                {
+                    sink.warn("KHR_materials_specular: its colour and textures are ignored (its factor is used)");
+                }
+                sp.specular_factor()
+            }
+            None => 1.0,
+        };
         MaterialSpec::Pbr(PbrSpec {
             base_color,
             metallic,
             roughness,
+            specular,
             metallic_roughness,
             normal_map,
         })

@@ -256,18 +256,13 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
     "KHR_texture_transform",
+    "KHR_materials_specular",
 ];
 /// Extensions Blender writes routinely, with what of them we cannot show.
-const PARTLY_MAPPED: &[(&str, &str)] = &[
-    (
-        "KHR_materials_volume",
-        "is ignored: glass is clear (no absorption inside); its thickness is not needed, refraction is traced",
-    ),
-    (
-        "KHR_materials_specular",
-        "is ignored: glass reflects by its IOR (Fresnel), diffuse surfaces have no specular layer",
-    ),
-];
+const PARTLY_MAPPED: &[(&str, &str)] = &[(
+    "KHR_materials_volume",
+    "is ignored: glass is clear (no absorption inside); its thickness is not needed, refraction is traced",
+)];
 
 /// A GLB's declared length must cover its 12-byte header and fit the file: `gltf` 1.4
 /// subtracts the header size from it unchecked.

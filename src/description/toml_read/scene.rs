@@ -188,6 +188,7 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
                 "base_color",
                 "metallic",
                 "roughness",
+                "specular",
                 "metallic_roughness",
                 "normal_map",
                 "normal_scale",
@@ -213,6 +214,7 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
                 base_color,
                 metallic: unit_interval(t, "metallic", 0.0)?,
                 roughness: unit_interval(t, "roughness", 0.5)?,
+                specular: unit_interval(t, "specular", 1.0)?,
                 metallic_roughness: data("metallic_roughness")?,
                 normal_map: normal_map.map(|n| (n, normal_scale)),
             }))
