@@ -88,3 +88,38 @@ fn light_transport_never_matches_on_a_material_kind() {
         found.join("\n")
     );
 }
+
+/// The input policy ARCHITECTURE.md states: files the user names are read only through
+/// `io::input` (a regular file, within a size limit), so no format or flag can make Photon
+/// read a FIFO forever or `/dev/zero` until memory runs out.
+#[test]
+fn files_are_opened_only_through_the_input_policy() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&root, &mut files);
+    let forbidden = [
+        "File::open(",
+        "fs::read(",
+        "fs::read_to_string(",
+        "read_first_rgba_layer_from_file",
+        "Gltf::open(",
+        "load_mtl(",
+    ];
+    let mut found = Vec::new();
+    for f in files {
+        if f.ends_with("io/input.rs") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&f).expect("reads");
+        for (i, line) in text.lines().enumerate() {
+            if forbidden.iter().any(|p| line.contains(p)) {
+                found.push(format!("{}:{}: {}", f.display(), i + 1, line.trim()));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "files opened outside io::input (use io::input::read_file):\n{}",
+        found.join("\n")
+    );
+}

@@ -55,7 +55,7 @@ pub fn run(a: &CompareArgs) -> Result<()> {
         );
     };
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&c)?);
+        outln!("{}", serde_json::to_string_pretty(&c)?);
     } else {
         print_comparison(&c);
     }
@@ -63,9 +63,12 @@ pub fn run(a: &CompareArgs) -> Result<()> {
 }
 
 fn print_comparison(c: &Comparison) {
-    println!(
+    outln!(
         "{:<8} {:>12} {:>12} {:>12}",
-        "channel", "RMSE", "relMSE", "mean ratio"
+        "channel",
+        "RMSE",
+        "relMSE",
+        "mean ratio"
     );
     for (name, e) in [
         ("red", &c.red),
@@ -73,9 +76,11 @@ fn print_comparison(c: &Comparison) {
         ("blue", &c.blue),
         ("overall", &c.overall),
     ] {
-        println!(
+        outln!(
             "{name:<8} {:>12.6} {:>12.6} {:>12.6}",
-            e.rmse, e.rel_mse, e.mean_ratio
+            e.rmse,
+            e.rel_mse,
+            e.mean_ratio
         );
     }
 }

@@ -1,5 +1,21 @@
 //! Subcommands of the `photon` binary, one file each.
 
+/// `println!` that ends the program quietly when the reader of standard output has gone
+/// (`photon compare a.pfm b.pfm | head -1`): a closed pipe is the reader's choice, not an
+/// error, and `println!` panics on it.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout().lock(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            eprintln!("error: writing to standard output: {e}");
+            std::process::exit(2);
+        }
+    }};
+}
+
 mod compare;
 mod model;
 mod photons;
@@ -60,8 +76,17 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 /// Worker pool with `threads` threads (0 or `None`: one per core).
+/// Most worker threads `--threads` may ask for: beyond the cores nothing is gained, and
+/// starting ten thousand threads for a small image took minutes.
+pub const MAX_THREADS: usize = 256;
+
 pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     use anyhow::Context;
+    if let Some(n) = threads
+        && n > MAX_THREADS
+    {
+        anyhow::bail!("--threads {n}: at most {MAX_THREADS} (the image is the same for any count)");
+    }
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()
@@ -81,9 +106,9 @@ pub struct ScenesArgs {
 fn scenes(a: &ScenesArgs) -> Result<()> {
     let (Some(name), Some(out)) = (&a.export, &a.output) else {
         for b in BUILTINS {
-            println!("{:<14} {}", b.name, b.description);
+            outln!("{:<14} {}", b.name, b.description);
         }
-        println!("\nor a scene file: SCENE.toml (docs/scene-format.md), SCENE.gltf or SCENE.glb");
+        outln!("\nor a scene file: SCENE.toml (docs/scene-format.md), SCENE.gltf or SCENE.glb");
         return Ok(());
     };
     if out.extension().and_then(|e| e.to_str()) != Some("toml") {

@@ -164,18 +164,19 @@ fn info(file: &Path) -> Result<()> {
 fn print_info(file: &Path, bytes: u64, maps: &PhotonMaps) {
     let c = &maps.config;
     let stored = maps.caustic.len() + maps.global.len();
-    println!(
+    outln!(
         "file:        {} ({:.1} MB, format {}, {} bytes per photon)",
         file.display(),
         bytes as f64 / 1e6,
         phm::FORMAT_VERSION,
         std::mem::size_of::<photon::photon::Photon>()
     );
-    println!(
+    outln!(
         "scene:       {} (content hash {:016x})",
-        maps.scene_name, maps.scene_hash
+        maps.scene_name,
+        maps.scene_hash
     );
-    println!(
+    outln!(
         "traced:      {} photons emitted{}, max depth {}, {}, seed {}",
         maps.stats.emitted,
         if c.per_channel {
@@ -194,7 +195,7 @@ fn print_info(file: &Path, bytes: u64, maps: &PhotonMaps) {
         let p = map.total_power();
         let direct = map.photons().iter().filter(|p| p.is_direct()).count();
         let b = map.bounds();
-        println!(
+        outln!(
             "{:<8} map: {} photons{}; power ({:.5}, {:.5}, {:.5}) W",
             map.kind.name(),
             map.len(),
@@ -208,9 +209,14 @@ fn print_info(file: &Path, bytes: u64, maps: &PhotonMaps) {
             p.z
         );
         if !map.is_empty() {
-            println!(
+            outln!(
                 "             bounds ({:.4}, {:.4}, {:.4}) to ({:.4}, {:.4}, {:.4})",
-                b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z
+                b.min.x,
+                b.min.y,
+                b.min.z,
+                b.max.x,
+                b.max.y,
+                b.max.z
             );
         }
     }
@@ -222,8 +228,8 @@ fn print_info(file: &Path, bytes: u64, maps: &PhotonMaps) {
         .filter(|(_, n)| **n > 0)
         .map(|(d, n)| format!("{d}: {n}"))
         .collect();
-    println!("per depth:   {}", by_depth.join(", "));
-    println!(
+    outln!("per depth:   {}", by_depth.join(", "));
+    outln!(
         "stored:      {stored} photons, {:.3} per emitted",
         stored as f64 / maps.stats.emitted.max(1) as f64
     );

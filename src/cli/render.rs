@@ -17,6 +17,13 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// Largest `--k`: the scene files' limit; each estimate keeps k + 1 candidates.
+const MAX_K: usize = 1 << 16;
+/// Largest `--indirect-scale` (a debugging knob; 1 is correct): larger overflowed to Inf.
+const MAX_INDIRECT_SCALE: f32 = 1e6;
+/// Largest `--exposure` magnitude in stops (2^±100 still fits an f32).
+const MAX_EXPOSURE: f32 = 100.0;
+
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum IntegratorName {
     /// Two-pass photon mapping: direct light, caustic map, final gathering of the global map.
@@ -331,11 +338,22 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if a.light_samples() == 0 {
         bail!("--light-samples must be at least 1");
     }
-    if !(a.indirect_scale >= 0.0 && a.indirect_scale.is_finite()) {
+    if !(0.0..=MAX_INDIRECT_SCALE).contains(&a.indirect_scale) {
         bail!(
-            "--indirect-scale {} must be a non-negative number",
+            "--indirect-scale {} must be between 0 and {MAX_INDIRECT_SCALE} (1 is physically correct)",
             a.indirect_scale
         );
+    }
+    if !(-MAX_EXPOSURE..=MAX_EXPOSURE).contains(&a.exposure) {
+        bail!(
+            "--exposure {} must be between -{MAX_EXPOSURE} and {MAX_EXPOSURE} stops",
+            a.exposure
+        );
+    }
+    if let Some(k) = a.k
+        && k > MAX_K
+    {
+        bail!("--k {k}: at most {MAX_K} photons per estimate (as in scene files)");
     }
     let component_aovs = a
         .aov

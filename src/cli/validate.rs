@@ -76,7 +76,7 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
         }
     }
     let text = table(&outcomes);
-    println!("{text}");
+    outln!("{text}");
     if let Some(path) = &a.report {
         let mut command = format!("photon validate {}", a.dir.display());
         if a.quick {

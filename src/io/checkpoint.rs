@@ -131,10 +131,7 @@ pub fn load(path: &Path) -> Result<ProgressiveState> {
 
 /// Load a checkpoint and the run information saved with it.
 pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Read {
-        path: path.to_owned(),
-        source,
-    })?;
+    let bytes = crate::io::input::read_file(path)?;
     if bytes.len() < 24 || &bytes[..8] != MAGIC {
         return Err(bad(path, "not a Photon checkpoint (bad magic number)"));
     }

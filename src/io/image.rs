@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::math::Rgb;
 use std::fs;
-use std::io::{BufWriter, Read, Write};
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 /// Image formats Photon reads and writes.
@@ -136,14 +136,10 @@ pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
             path: path.to_owned(),
             source: std::io::Error::other(e),
         }),
-        ImageFormat::Exr => {
-            let w = image.width as usize;
-            exr::prelude::write_rgb_file(tmp, w, image.height as usize, |x, y| {
-                let p = image.pixels[y * w + x];
-                (p.x, p.y, p.z)
-            })
-            .map_err(|e| io_err(std::io::Error::other(e)))
-        }
+        ImageFormat::Exr => write_exr(tmp, &[("", image)]).map_err(|e| Error::Write {
+            path: path.to_owned(),
+            source: std::io::Error::other(e),
+        }),
         ImageFormat::Pfm => write_pfm(image, tmp).map_err(io_err),
         ImageFormat::Npy => unreachable!("handled above"),
     })
@@ -153,10 +149,24 @@ pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
 /// `R`, `G`, `B` channels hold the first image (the beauty), and `NAME.R`, `NAME.G`, `NAME.B`
 /// for each further image (`direct.R`, …).
 pub fn write_exr_layers(path: &Path, layers: &[(&str, &Image)]) -> Result<()> {
-    use exr::prelude::*;
-    let Some((_, first)) = layers.first() else {
+    if layers.is_empty() {
         return Ok(());
-    };
+    }
+    write_atomically(path, |tmp| {
+        write_exr(tmp, layers).map_err(|e| crate::error::Error::Write {
+            path: path.to_owned(),
+            source: std::io::Error::other(e),
+        })
+    })
+}
+
+/// The OpenEXR writer behind both: lossless (FAST_LOSSLESS) float channels, blocks in
+/// increasing line order, compressed on one thread. On several threads the crate wrote the
+/// blocks as they finished, whatever line order was asked for: two identical renders of 256²
+/// and more gave different files with the same pixels. (A 512² EXR compresses in ~40 ms.)
+fn write_exr(path: &Path, layers: &[(&str, &Image)]) -> exr::error::UnitResult {
+    use exr::prelude::*;
+    let first = layers[0].1;
     let size = (first.width as usize, first.height as usize);
     let mut channels = Vec::new();
     for (k, (name, img)) in layers.iter().enumerate() {
@@ -170,22 +180,20 @@ pub fn write_exr_layers(path: &Path, layers: &[(&str, &Image)]) -> Result<()> {
             channels.push(AnyChannel::new(full.as_str(), samples));
         }
     }
+    let encoding = Encoding {
+        line_order: LineOrder::Increasing,
+        ..Encoding::FAST_LOSSLESS
+    };
     let layer = Layer::new(
         size,
         LayerAttributes::default(),
-        Encoding::FAST_LOSSLESS,
+        encoding,
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
-    let image = exr::image::Image::from_layer(layer);
-    write_atomically(path, |tmp| {
-        image
-            .write()
-            .to_file(tmp)
-            .map_err(|e| crate::error::Error::Write {
-                path: path.to_owned(),
-                source: std::io::Error::other(e),
-            })
-    })
+    exr::image::Image::from_layer(layer)
+        .write()
+        .non_parallel()
+        .to_file(path)
 }
 
 /// NumPy `.npy` (format 1.0) of one channel: a height × width little-endian float32 array, as
@@ -262,24 +270,50 @@ pub fn read_image(path: &Path) -> Result<Image> {
     };
     match format {
         ImageFormat::Exr => {
-            let img = exr::prelude::read_first_rgba_layer_from_file(
-                path,
-                |res, _| Image::new(res.width() as u32, res.height() as u32),
-                |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-                    img.set(pos.x() as u32, pos.y() as u32, Rgb::new(r, g, b));
-                },
-            )
-            .map_err(|e| bad(format!("not a readable OpenEXR image: {e}")))?;
+            use exr::prelude::{ReadChannels as _, ReadLayers as _};
+            let bytes = crate::io::input::read_file(path)?;
+            // The header's resolution is the file's word: refuse a huge one before the
+            // pixels are allocated (an empty image stands in, and is refused below).
+            let too_big = std::sync::Arc::new(std::sync::Mutex::new(None));
+            let flag = too_big.clone();
+            let img = exr::prelude::read()
+                .no_deep_data()
+                .largest_resolution_level()
+                .rgba_channels(
+                    move |res: exr::math::Vec2<usize>, _: &exr::image::RgbaChannels| {
+                        let (w, h) = (res.width() as u64, res.height() as u64);
+                        if w * h > MAX_IMAGE_PIXELS {
+                            if let Ok(mut f) = flag.lock() {
+                                *f = Some((w, h));
+                            }
+                            return Image::new(0, 0);
+                        }
+                        Image::new(w as u32, h as u32)
+                    },
+                    |img: &mut Image,
+                     pos: exr::math::Vec2<usize>,
+                     (r, g, b, _a): (f32, f32, f32, f32)| {
+                        if img.width > 0 {
+                            img.set(pos.x() as u32, pos.y() as u32, Rgb::new(r, g, b));
+                        }
+                    },
+                )
+                .first_valid_layer()
+                .all_attributes()
+                .from_buffered(std::io::Cursor::new(bytes))
+                .map_err(|e| bad(format!("not a readable OpenEXR image: {e}")))?;
+            let too_big = *too_big
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            if let Some((w, h)) = too_big {
+                return Err(bad(format!(
+                    "{w}×{h} pixels is more than the {MAX_IMAGE_PIXELS} an image may have"
+                )));
+            }
             Ok(img.layer_data.channel_data.pixels)
         }
         ImageFormat::Pfm => {
-            let mut data = Vec::new();
-            fs::File::open(path)
-                .and_then(|mut f| f.read_to_end(&mut data))
-                .map_err(|source| Error::Read {
-                    path: path.to_owned(),
-                    source,
-                })?;
+            let data = crate::io::input::read_file(path)?;
             parse_pfm(&data).map_err(bad)
         }
         ImageFormat::Png | ImageFormat::Npy => Err(unsupported(path, READABLE)),
@@ -306,6 +340,9 @@ impl EnvironmentFormat {
     }
 }
 
+/// Largest image read (compare inputs, EXR environment maps), in pixels: 32k × 32k.
+pub const MAX_IMAGE_PIXELS: u64 = 1 << 30;
+
 /// Largest environment map accepted, in pixels (16k × 8k).
 pub const MAX_ENVIRONMENT_PIXELS: u64 = 1 << 27;
 
@@ -321,10 +358,7 @@ pub fn read_environment(path: &Path) -> Result<crate::light::EnvironmentMap> {
     let image = match format {
         EnvironmentFormat::Exr | EnvironmentFormat::Pfm => read_image(path)?,
         EnvironmentFormat::Hdr => {
-            let bytes = fs::read(path).map_err(|source| Error::Read {
-                path: path.to_owned(),
-                source,
-            })?;
+            let bytes = crate::io::input::read_file(path)?;
             let mut reader = image::ImageReader::with_format(
                 std::io::Cursor::new(&bytes),
                 image::ImageFormat::Hdr,

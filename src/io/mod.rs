@@ -3,6 +3,7 @@
 
 pub mod checkpoint;
 pub mod image;
+pub mod input;
 pub mod mesh;
 pub mod phm;
 pub mod ply;

@@ -110,10 +110,7 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
 
 /// Load maps saved by [`save`]. Truncated, corrupted or foreign files are errors.
 pub fn load(path: &Path) -> Result<PhotonMaps> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Read {
-        path: path.to_owned(),
-        source,
-    })?;
+    let bytes = crate::io::input::read_file(path)?;
     if bytes.len() < FIXED + 8 || &bytes[..8] != MAGIC {
         return Err(bad(path, "not a Photon photon-map file (bad magic number)"));
     }

@@ -89,10 +89,7 @@ pub fn read_texture(path: &Path) -> Result<ImageTexture> {
 
 /// Read a PNG or JPEG texture with the given encoding.
 pub fn read_texture_as(path: &Path, encoding: Encoding) -> Result<ImageTexture> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Read {
-        path: path.to_owned(),
-        source,
-    })?;
+    let bytes = crate::io::input::read_file(path)?;
     decode_texture_as(&bytes, path, encoding)
 }
 

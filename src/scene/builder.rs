@@ -11,6 +11,10 @@ use crate::texture::Texture;
 use glam::Affine3A;
 use std::sync::Arc;
 
+/// Largest coordinate magnitude a shape may reach: the BVH squares extents, and at 1e19 it
+/// overflowed and panicked.
+pub const MAX_COORDINATE: f32 = 1e15;
+
 /// Light emitted by an object's surface: radiance (W·m⁻²·sr⁻¹), times an sRGB texture
 /// looked up at the object's texture coordinates where there is one; one- or two-sided.
 #[derive(Clone, Debug)]
@@ -408,6 +412,20 @@ impl SceneBuilder {
             };
             if !o.shapes.iter().all(check) {
                 return invalid(format!("object {i} has non-finite coordinates"));
+            }
+            // Bounds the BVH and the ray arithmetic can take (extents are squared).
+            let reach = o
+                .shapes
+                .iter()
+                .map(|s| {
+                    let b = s.bounds();
+                    b.min.abs().max(b.max.abs()).max_element()
+                })
+                .fold(0.0f32, f32::max);
+            if reach > MAX_COORDINATE {
+                return invalid(format!(
+                    "object {i} reaches {reach:e} from the origin, beyond the ±{MAX_COORDINATE:e} that coordinates may have"
+                ));
             }
             let light = match o.emission {
                 Some(e) if e.radiance.max_element() > 0.0 => {

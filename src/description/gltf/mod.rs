@@ -351,15 +351,16 @@ pub(super) fn read_uri(path: &Path, dir: &Path, uri: &str) -> Result<Vec<u8>> {
             .map_err(|e| file_error(path, format!("a data URI is not valid base64: {e}")));
     }
     let file = dir.join(uri.replace("%20", " "));
-    std::fs::read(&file).map_err(|e| {
-        file_error(
-            path,
-            format!("cannot read the buffer or image '{}': {e}", file.display()),
-        )
-    })
+    crate::io::input::read_file(&file)
+        .map_err(|e| file_error(path, format!("cannot read the buffer or image: {e}")))
 }
 
 /// Nodes of the default (or first) scene with their world transforms, depth first.
+/// Most node placements a scene's hierarchy may make, and most triangles its meshes may
+/// make placed: about 6 GB of scene at 120 bytes a triangle.
+const MAX_NODE_INSTANCES: usize = 1_000_000;
+const MAX_INSTANCED_TRIANGLES: u64 = 50_000_000;
+
 fn scene_nodes(g: &Opened) -> Result<Vec<(gltf::Node<'_>, Mat4)>> {
     let Some(scene) = g.doc.default_scene().or_else(|| g.doc.scenes().next()) else {
         return Err(g.error("the file has no scene"));
@@ -368,9 +369,35 @@ fn scene_nodes(g: &Opened) -> Result<Vec<(gltf::Node<'_>, Mat4)>> {
     let mut stack: Vec<(gltf::Node, Mat4, usize)> =
         scene.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect();
     stack.reverse();
+    // Nodes may share children, so a small file can instance a mesh 2⁴⁰ times (a 2 KB file
+    // took 3.2 GB before aborting): instances and the triangles they make are counted as the
+    // hierarchy is walked, and refused past the limits.
+    let mut triangles = 0u64;
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 256 {
             return Err(g.error("the node hierarchy is deeper than 256 levels (a cycle?)"));
+        }
+        if out.len() >= MAX_NODE_INSTANCES {
+            return Err(g.error(format!(
+                "the node hierarchy places more than {MAX_NODE_INSTANCES} nodes (nodes that share children instance them again and again)"
+            )));
+        }
+        if let Some(mesh) = node.mesh() {
+            triangles += mesh
+                .primitives()
+                .map(|p| {
+                    let n = p
+                        .indices()
+                        .map(|a| a.count())
+                        .or_else(|| p.get(&gltf::Semantic::Positions).map(|a| a.count()));
+                    n.unwrap_or(0) as u64 / 3
+                })
+                .sum::<u64>();
+            if triangles > MAX_INSTANCED_TRIANGLES {
+                return Err(g.error(format!(
+                    "the node hierarchy instances more than {MAX_INSTANCED_TRIANGLES} triangles (nodes that share children instance their meshes again and again)"
+                )));
+            }
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         let children: Vec<_> = node.children().map(|c| (c, world, depth + 1)).collect();

@@ -75,10 +75,7 @@ pub(crate) fn fan(polygon: &[u32], out: &mut Vec<[u32; 3]>) {
 }
 
 pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>> {
-    std::fs::read(path).map_err(|source| Error::Read {
-        path: path.to_owned(),
-        source,
-    })
+    crate::io::input::read_file(path)
 }
 
 pub(crate) fn file_error(path: &Path, message: impl Into<String>) -> Error {

@@ -20,10 +20,30 @@ pub fn read(path: &Path) -> Result<MeshFile> {
     };
     let dir = path.parent().unwrap_or(Path::new(""));
     let mut warnings = Vec::new();
+    // The material library is read through the input policy and checked line by line before
+    // `tobj` parses it: `tobj` panics on `Kd 1 2` and says nothing of where a problem is.
+    let mtl_error = std::cell::RefCell::new(None);
     let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |mtl| {
-        tobj::load_mtl(dir.join(mtl))
+        let mtl_path = dir.join(mtl);
+        let checked = crate::io::input::read_file(&mtl_path).and_then(|bytes| {
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            check_mtl(&mtl_path, &text).map(|()| text)
+        });
+        match checked {
+            Ok(text) => tobj::load_mtl_buf(&mut text.as_bytes()),
+            Err(e) => {
+                let not_found = matches!(&e, Error::Read { source, .. } if source.kind() == std::io::ErrorKind::NotFound);
+                if !not_found {
+                    *mtl_error.borrow_mut() = Some(e);
+                }
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        }
     })
     .map_err(|e| locate(path, &text, &e))?;
+    if let Some(e) = mtl_error.into_inner() {
+        return Err(e);
+    }
     let materials = match materials {
         Ok(m) => m,
         Err(e) => {
@@ -126,6 +146,52 @@ fn convert(m: &tobj::Material, warnings: &mut Vec<String>) -> ImportedMaterial {
         spec,
         emission,
     }
+}
+
+/// Check an MTL file's numeric statements before `tobj` reads them: colours take one number
+/// or three (`Kd 1 2` panicked `tobj`), scalars one, `illum` an integer; every number finite.
+fn check_mtl(path: &Path, text: &str) -> Result<()> {
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        let mut words = line.split_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        let args: Vec<&str> = words.collect();
+        let at = |msg: String| {
+            Err(Error::SceneFile(Box::new(Diagnostic::at_line(
+                path,
+                text,
+                i + 1,
+                msg,
+            ))))
+        };
+        let numbers = || args.iter().map(|a| a.parse::<f32>()).collect::<Vec<_>>();
+        let finite = |n: &[std::result::Result<f32, _>]| {
+            n.iter().all(|x| x.as_ref().is_ok_and(|v| v.is_finite()))
+        };
+        match keyword {
+            "Ka" | "Kd" | "Ks" | "Ke" | "Tf" => {
+                let n = numbers();
+                if !(n.len() == 1 || n.len() == 3) || !finite(&n) {
+                    return at(format!(
+                        "expected a colour: {keyword} r g b (or one number), finite"
+                    ));
+                }
+            }
+            "Ns" | "Ni" | "d" | "Tr" => {
+                let n = numbers();
+                if n.len() != 1 || !finite(&n) {
+                    return at(format!("expected one finite number after {keyword}"));
+                }
+            }
+            "illum" if args.len() != 1 || args[0].parse::<u32>().is_err() => {
+                return at("expected an illumination model: illum N (0 to 10)".into());
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// Turn a `tobj` error into a located diagnostic by finding the first line that causes it.

@@ -36,10 +36,7 @@ pub fn read_file(path: &Path) -> Result<SceneDesc> {
             ),
         ))));
     }
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-        path: path.to_owned(),
-        source,
-    })?;
+    let text = crate::io::input::read_text(path)?;
     let base_dir = path.parent().map(Path::to_owned).unwrap_or_default();
     read_str(&text, path, &base_dir)
 }
