@@ -256,3 +256,54 @@ fn gltf_node_sharing_is_bounded() {
     );
     assert_usage_error(&o, "node hierarchy");
 }
+
+/// Careless paths that destroyed the user's files: a checkpoint over the scene file or over the
+/// image, and `--export` over the scene it reads. A SIGKILLed writer's `.partial` file is
+/// cleaned up by the next write of the same file.
+#[test]
+fn nothing_the_user_had_is_overwritten() {
+    let dir = temp_dir("hardening-lost");
+    std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
+    for (args, needle) in [
+        (vec!["--checkpoint", "s.toml"], "scene file"),
+        (vec!["--checkpoint", "out.exr"], "output image"),
+        (vec!["--checkpoint", "other.toml"], "not a scene file"),
+    ] {
+        let mut full = vec![
+            "render",
+            "s.toml",
+            "--integrator",
+            "ppm",
+            "--passes",
+            "1",
+            "--photons-per-pass",
+            "1000",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "-q",
+            "-o",
+            "out.exr",
+        ];
+        full.extend_from_slice(&args);
+        let o = photon(&full, &dir);
+        assert_usage_error(&o, needle);
+    }
+    assert_eq!(
+        std::fs::read_to_string(dir.join("s.toml")).expect("reads"),
+        SPHERE
+    );
+    let o = photon(&["scenes", "--export", "s.toml", "-o", "s.toml"], &dir);
+    assert_usage_error(&o, "write over");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("s.toml")).expect("reads"),
+        SPHERE
+    );
+    // A partial file of a process that is gone (PID 0x7ffffffe does not run) disappears.
+    let stale = dir.join(".x.png.2147483646.partial");
+    std::fs::write(&stale, b"left by a killed writer").expect("write");
+    let o = tiny(&dir, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stale.exists(), "the stale partial file is still there");
+}

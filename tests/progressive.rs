@@ -141,3 +141,48 @@ fn cornell_error_falls_with_passes() {
         assert!(caustic[0] > caustic[2], "{}: {caustic:?}", method.name());
     }
 }
+
+/// PPM sums its passes in fixed point: 64 bits wrapped for a light of radiance 3·10¹¹ at two
+/// passes (pixels down to −2.5·10¹¹). Now the light reads as itself and nothing is negative.
+#[test]
+fn ppm_sums_do_not_wrap_for_bright_lights() {
+    let text = r#"
+[camera]
+position = [0.0, 0.0, 3.0]
+look_at = [0.0, 0.0, 0.0]
+[materials.white]
+type = "diffuse"
+[[shapes]]
+type = "quad"
+vertices = [[-2.0, -2.0, -1.0], [2.0, -2.0, -1.0], [2.0, 2.0, -1.0], [-2.0, 2.0, -1.0]]
+material = "white"
+[[lights]]
+type = "quad"
+vertices = [[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]]
+radiance = 3e11
+"#;
+    let desc = photon::description::toml_read::read_str(
+        text,
+        std::path::Path::new("bright.toml"),
+        std::path::Path::new("."),
+    )
+    .expect("reads");
+    let scene = photon::description::build::build(&desc).expect("builds");
+    let mut state =
+        ProgressiveState::new(&scene, config(Method::Ppm, 8, 8, 2000), 0).expect("state");
+    for _ in 0..3 {
+        state.run_pass(&scene).expect("pass");
+    }
+    let img = state.image();
+    let min = img
+        .pixels
+        .iter()
+        .map(|p| p.min_element())
+        .fold(f32::MAX, f32::min);
+    let centre = img.get(4, 4).x;
+    assert!(min >= 0.0, "a negative pixel: {min}");
+    assert!(
+        (centre / 3e11 - 1.0).abs() < 1e-3,
+        "the light reads {centre}"
+    );
+}

@@ -114,6 +114,14 @@ fn scenes(a: &ScenesArgs) -> Result<()> {
     if out.extension().and_then(|e| e.to_str()) != Some("toml") {
         anyhow::bail!("'{}': --export writes a .toml file", out.display());
     }
+    if std::path::Path::new(name).is_file()
+        && std::path::absolute(name).ok() == std::path::absolute(out).ok()
+    {
+        anyhow::bail!(
+            "'{}': --export would write over the scene it reads (and drop its comments); give another -o",
+            out.display()
+        );
+    }
     let loaded = photon::description::load(name)?;
     print_warnings(&loaded.warnings);
     let dir = out.parent().filter(|d| !d.as_os_str().is_empty());

@@ -464,13 +464,38 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -
     } else {
         check_writable(&output)?;
     }
+    let checkpoint = a
+        .checkpoint
+        .clone()
+        .unwrap_or_else(|| progressive::default_checkpoint(&output));
+    // A checkpoint written over the scene file or the image destroyed what the user had.
+    let same = |x: &std::path::Path, y: &std::path::Path| {
+        std::path::absolute(x).ok() == std::path::absolute(y).ok()
+    };
+    if same(&checkpoint, &output) {
+        bail!(
+            "--checkpoint {} is the output image too; give them different names",
+            checkpoint.display()
+        );
+    }
+    if same(&checkpoint, std::path::Path::new(&a.scene)) {
+        bail!(
+            "--checkpoint {} is the scene file; it would be overwritten",
+            checkpoint.display()
+        );
+    }
+    if checkpoint.extension().is_some_and(|e| {
+        ["toml", "gltf", "glb", "obj", "ply"].contains(&e.to_string_lossy().as_ref())
+    }) {
+        bail!(
+            "--checkpoint {}: a checkpoint is not a scene file; name it NAME.checkpoint",
+            checkpoint.display()
+        );
+    }
     let state = ProgressiveState::new(scene, config, first)?;
     let pool = super::thread_pool(a.threads)?;
     let outputs = progressive::Outputs {
-        checkpoint: a
-            .checkpoint
-            .clone()
-            .unwrap_or_else(|| progressive::default_checkpoint(&output)),
+        checkpoint,
         image: output,
         snapshots: a.snapshots,
         exposure: a.exposure,

@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! "PHOTONCK" | version u32 | header length u32 | JSON header (scene, settings, passes)
-//! | per pixel: SPPM 8 × f64 (r², N, τ rgb, direct rgb) or PPM 3 × i64 (fixed-point sums)
+//! | per pixel: SPPM 8 × f64 (r², N, τ rgb, direct rgb) or PPM 3 × i128 (fixed-point sums)
 //! | FNV-1a 64 checksum of everything before it
 //! ```
 //! All numbers little-endian; written atomically.
@@ -17,7 +17,8 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"PHOTONCK";
-pub const CHECKPOINT_VERSION: u32 = 1;
+/// 2: PPM sums are 128-bit (they were 64-bit and wrapped).
+pub const CHECKPOINT_VERSION: u32 = 2;
 const MAX_HEADER: usize = 1 << 20;
 
 #[derive(Serialize, Deserialize)]
@@ -167,7 +168,7 @@ pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
     let pixels = hd.width as usize * hd.height as usize;
     let per_pixel = match method {
         Method::Sppm => 64,
-        Method::Ppm => 24,
+        Method::Ppm => 48,
     };
     let data = &body[16 + header_len..];
     if Some(data.len()) != pixels.checked_mul(per_pixel) {
@@ -227,10 +228,10 @@ pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
             state.ppm = (0..pixels)
                 .map(|i| {
                     let v = |k: usize| {
-                        i64::from_le_bytes(
-                            data[i * 24 + k * 8..i * 24 + k * 8 + 8]
+                        i128::from_le_bytes(
+                            data[i * 48 + k * 16..i * 48 + k * 16 + 16]
                                 .try_into()
-                                .expect("8"),
+                                .expect("16"),
                         )
                     };
                     [v(0), v(1), v(2)]

@@ -75,14 +75,56 @@ pub fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
 }
 
+/// Remove `.NAME.PID.partial` siblings of `path` left by processes that no longer run (a
+/// SIGKILL leaves them; they reached 67 MB).
+fn remove_stale_partials(path: &Path) {
+    if !cfg!(target_os = "linux") {
+        return;
+    }
+    let Some(name) = path.file_name().map(|n| n.to_string_lossy().into_owned()) else {
+        return;
+    };
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let prefix = format!(".{name}.");
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let Some(pid) = file
+            .strip_prefix(&prefix)
+            .and_then(|rest| rest.strip_suffix(".partial"))
+            .and_then(|pid| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        // Another live writer's file is left alone (Linux: /proc/PID exists while it runs).
+        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+            let _ = fs::remove_file(entry.path());
+        }
+    }
+}
+
 /// Write via a temporary file and rename it over `path`.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     let tmp = temp_path(path);
+    remove_stale_partials(path);
     let result = write(&tmp).and_then(|()| {
-        fs::rename(&tmp, path).map_err(|source| Error::Write {
+        let err = |source| Error::Write {
             path: path.to_owned(),
             source,
-        })
+        };
+        // The data reaches the disk before the name does: a crash after the rename must not
+        // leave an empty or torn file where the old one was.
+        fs::OpenOptions::new()
+            .write(true)
+            .open(&tmp)
+            .and_then(|f| f.sync_all())
+            .map_err(err)?;
+        fs::rename(&tmp, path).map_err(err)
     });
     if result.is_err() {
         let _ = fs::remove_file(&tmp);

@@ -95,8 +95,10 @@ pub struct ProgressiveState {
     /// Passes accumulated so far (from `first_pass`).
     pub passes: u64,
     pub sppm: Vec<SppmPixel>,
-    /// PPM: per pixel, the sum over passes of the radiance in fixed point.
-    pub ppm: Vec<[i64; 3]>,
+    /// PPM: per pixel, the sum over passes of the radiance in fixed point (128 bits: 64 wrapped
+    /// to negative pixels for a light of radiance 3·10¹¹ at 2 passes; saturating, never
+    /// wrapping, even for the largest f32).
+    pub ppm: Vec<[i128; 3]>,
 }
 
 /// What one pass did.
@@ -169,7 +171,8 @@ impl ProgressiveState {
                     stats,
                 );
                 for k in 0..3 {
-                    px[k] += (f64::from(l[k]) * FIXED).round() as i64;
+                    // `as` saturates; the sum saturates too.
+                    px[k] = px[k].saturating_add((f64::from(l[k]) * FIXED).round() as i128);
                 }
             }),
         };
@@ -239,7 +242,7 @@ impl ProgressiveState {
             }
             for (a, b) in out.ppm.iter_mut().zip(&p.ppm) {
                 for k in 0..3 {
-                    a[k] += b[k];
+                    a[k] = a[k].saturating_add(b[k]);
                 }
             }
             out.passes += p.passes;
