@@ -307,3 +307,54 @@ fn nothing_the_user_had_is_overwritten() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stale.exists(), "the stale partial file is still there");
 }
+
+/// A new render does not replace another's checkpoint; a SIGKILL after the first pass leaves
+/// a checkpoint (there was none for 30 s); resuming it gives the bytes of an uninterrupted run.
+#[test]
+fn checkpoints_survive_reruns_and_kills() {
+    let dir = temp_dir("hardening-kill");
+    std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
+    let ppm = |out: &str, passes: &str| {
+        photon(
+            &[
+                "render", "s.toml", "--integrator", "ppm", "--passes", passes,
+                "--photons-per-pass", "2000", "--width", "16", "--height", "16", "-q", "-o", out,
+            ],
+            &dir,
+        )
+    };
+    let o = ppm("good.exr", "3");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = std::fs::read(dir.join("good.checkpoint")).expect("checkpoint");
+    let o = ppm("good.exr", "1");
+    assert_usage_error(&o, "--resume");
+    assert_eq!(std::fs::read(dir.join("good.checkpoint")).expect("still there"), before);
+
+    // Killed mid-run: the checkpoint of its first passes is there and resumes exactly.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_photon"))
+        .args([
+            "render", "s.toml", "--integrator", "ppm", "--passes", "100000",
+            "--photons-per-pass", "2000", "--width", "16", "--height", "16", "-q", "-o", "k.exr",
+        ])
+        .current_dir(&dir)
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let ck = dir.join("k.checkpoint");
+    let mut waited = 0;
+    while !ck.exists() && waited < 600 {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        waited += 1;
+    }
+    child.kill().expect("SIGKILL");
+    let _ = child.wait();
+    assert!(ck.exists(), "no checkpoint after the first pass");
+    let o = photon(&["render", "--resume", "k.checkpoint", "--passes", "4", "-q"], &dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = ppm("whole.exr", "4");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let resumed = photon::io::checkpoint::load(&ck).expect("loads");
+    let whole = photon::io::checkpoint::load(&dir.join("whole.checkpoint")).expect("loads");
+    assert_eq!(resumed.passes, whole.passes);
+    assert!(resumed.ppm == whole.ppm, "a resumed run differs from an uninterrupted one");
+}

@@ -98,6 +98,9 @@ pub fn run(
                 .is_some_and(|s| start.elapsed().as_secs_f64() >= s)
     };
     let mut interrupted = false;
+    // The first checkpoint comes after the first pass (then every CHECKPOINT_EVERY): a run
+    // killed in its first 30 s left none.
+    let mut checkpointed = false;
     while !done(&state) {
         if stop.load(Ordering::SeqCst) {
             interrupted = true;
@@ -123,9 +126,10 @@ pub fn run(
             )?;
             last_snapshot = Instant::now();
         }
-        if !out.partial && last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
+        if !out.partial && (!checkpointed || last_checkpoint.elapsed() >= CHECKPOINT_EVERY) {
             checkpoint::save_with(&state, &info, &out.checkpoint)?;
             last_checkpoint = Instant::now();
+            checkpointed = true;
         }
     }
     bar.finish_and_clear();

@@ -492,6 +492,19 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -
             checkpoint.display()
         );
     }
+    // A new render must not replace the checkpoint of another (an interrupted re-run replaced
+    // an 80-pass checkpoint and its image with one pass).
+    if !partial
+        && let Ok((old, _)) = photon::io::checkpoint::load_with(&checkpoint)
+        && old.passes > 0
+    {
+        bail!(
+            "{} holds {} passes of a render: continue it with --resume {}, or delete it to start again",
+            checkpoint.display(),
+            old.passes,
+            checkpoint.display()
+        );
+    }
     let state = ProgressiveState::new(scene, config, first)?;
     let pool = super::thread_pool(a.threads)?;
     let outputs = progressive::Outputs {
