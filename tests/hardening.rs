@@ -358,3 +358,77 @@ fn checkpoints_survive_reruns_and_kills() {
     assert_eq!(resumed.passes, whole.passes);
     assert!(resumed.ppm == whole.ppm, "a resumed run differs from an uninterrupted one");
 }
+
+/// Numbers read from files follow the TOML reader's rules: an OBJ vertex of NaN, a face of two
+/// vertices, a PLY vertex of Inf, a glTF light of negative intensity and a negative base
+/// colour were all accepted (some dropped silently, some lighting the scene negatively).
+#[test]
+fn non_finite_and_negative_numbers_in_files_are_errors() {
+    let dir = temp_dir("hardening-numbers");
+    let mesh_scene = |file: &str| {
+        SPHERE.replace(
+            "type = \"sphere\"\nradius = 1.0",
+            &format!("type = \"mesh\"\nfile = \"{file}\""),
+        )
+    };
+    for (name, text, needle) in [
+        ("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "nan.obj:1"),
+        ("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "two.obj:4"),
+    ] {
+        std::fs::write(dir.join(name), text).expect("write");
+        std::fs::write(dir.join("s.toml"), mesh_scene(name)).expect("write");
+        assert_usage_error(&tiny(&dir, &[]), needle);
+    }
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\ninf 0 0\n0 1 0\n3 0 1 2\n";
+    std::fs::write(dir.join("inf.ply"), ply).expect("write");
+    std::fs::write(dir.join("s.toml"), mesh_scene("inf.ply")).expect("write");
+    assert_usage_error(&tiny(&dir, &[]), "inf.ply");
+    // Binary PLY reads NaN as a number: the scene refuses the triangle that uses it.
+    let mut bin_ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
+    for v in [[0.0f32, 0.0, 0.0], [f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        for x in v {
+            bin_ply.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    bin_ply.push(3);
+    for i in [0i32, 1, 2] {
+        bin_ply.extend_from_slice(&i.to_le_bytes());
+    }
+    std::fs::write(dir.join("nan.ply"), bin_ply).expect("write");
+    std::fs::write(dir.join("s.toml"), mesh_scene("nan.ply")).expect("write");
+    assert_usage_error(&tiny(&dir, &[]), "non-finite");
+    // glTF: a light of negative intensity, a material of negative base colour.
+    let mut bin = Vec::new();
+    for v in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        for x in v {
+            bin.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    let gltf = |material: serde_json::Value, intensity: f32| {
+        serde_json::json!({
+            "asset": {"version": "2.0"},
+            "extensionsUsed": ["KHR_lights_punctual"],
+            "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": intensity}]}},
+            "scene": 0,
+            "scenes": [{"nodes": [0, 1]}],
+            "nodes": [{"mesh": 0}, {"translation": [0.0, 0.0, 2.0], "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+            "materials": [material],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                           "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0]}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "buffers": [{"byteLength": 36}]
+        })
+    };
+    for (doc, needle) in [
+        (gltf(serde_json::json!({"name": "m"}), -100.0), "not negative"),
+        (
+            gltf(serde_json::json!({"name": "m", "pbrMetallicRoughness": {"baseColorFactor": [-1.0, 0.5, 0.5, 1.0]}}), 100.0),
+            "negative",
+        ),
+    ] {
+        std::fs::write(dir.join("bad.glb"), common::glb(&doc, &bin)).expect("write");
+        let o = photon(&["render", "bad.glb", "--width", "8", "--height", "8", "-q", "-o", "x.png"], &dir);
+        assert_usage_error(&o, needle);
+    }
+}

@@ -255,6 +255,12 @@ impl SceneBuilder {
                 )));
             }
             let [a, b, c] = t.map(|i| world[i as usize]);
+            if !(a.is_finite() && b.is_finite() && c.is_finite()) {
+                // Its area is NaN, and it was dropped as degenerate without a word.
+                return Err(Error::InvalidScene(format!(
+                    "triangle {k} of a mesh has a non-finite vertex ({a}, {b}, {c})"
+                )));
+            }
             let tri = Triangle::new(a, b, c);
             if tri.area() > 0.0 {
                 shapes.push(Shape::Triangle(tri));

@@ -23,6 +23,22 @@ pub(super) fn convert_material(
     let pbr = m.pbr_metallic_roughness();
     let [r, gr, b, _] = pbr.base_color_factor();
     let base = Rgb::new(r, gr, b);
+    let factors = [
+        r,
+        gr,
+        b,
+        pbr.metallic_factor(),
+        pbr.roughness_factor(),
+        m.emissive_factor()[0],
+        m.emissive_factor()[1],
+        m.emissive_factor()[2],
+        m.emissive_strength().unwrap_or(1.0),
+    ];
+    if factors.iter().any(|x| !x.is_finite() || *x < 0.0) {
+        return Err(g.error(format!(
+            "material '{name}' has a factor that is negative or not finite ({factors:?}); glTF's factors are finite and ≥ 0"
+        )));
+    }
     let transmission = m.transmission().map_or(0.0, |t| t.transmission_factor());
     if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
         sink.warn("alpha blending and masking are ignored (surfaces are opaque)");

@@ -83,6 +83,14 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
         }
         if let Some(light) = node.light() {
             let color = Rgb::from_array(light.color()) * light.intensity() / LUMENS_PER_WATT;
+            if !color.is_finite() || color.min_element() < 0.0 {
+                return Err(g.error(format!(
+                    "light {} has colour {:?} and intensity {}: both must be finite and not negative",
+                    light.index(),
+                    light.color(),
+                    light.intensity()
+                )));
+            }
             let position = world.transform_point3(Vec3::ZERO);
             let forward = world.transform_vector3(-Vec3::Z);
             if light.range().is_some() {

@@ -18,6 +18,7 @@ pub fn read(path: &Path) -> Result<MeshFile> {
         ignore_points: true,
         ignore_lines: true,
     };
+    check_obj(path, &text)?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let mut warnings = Vec::new();
     // The material library is read through the input policy and checked line by line before
@@ -196,6 +197,16 @@ fn check_mtl(path: &Path, text: &str) -> Result<()> {
 
 /// Turn a `tobj` error into a located diagnostic by finding the first line that causes it.
 fn locate(path: &Path, text: &str, e: &tobj::LoadError) -> Error {
+    match check_obj(path, text) {
+        Err(located) => located,
+        Ok(()) => file_error(path, format!("cannot read the OBJ file: {e}")),
+    }
+}
+
+/// Check an OBJ file's statements before `tobj` reads them: positions, normals and texture
+/// coordinates are finite numbers, and every face has three or more vertices whose indices
+/// exist (`tobj` accepted `v nan 0 0`, and a face of two vertices vanished without a word).
+fn check_obj(path: &Path, text: &str) -> Result<()> {
     let (mut v, mut vt, mut vn) = (0i64, 0i64, 0i64);
     for (i, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("").trim();
@@ -204,16 +215,28 @@ fn locate(path: &Path, text: &str, e: &tobj::LoadError) -> Error {
             continue;
         };
         let args: Vec<&str> = words.collect();
-        let numbers_ok =
-            |min: usize| args.len() >= min && args.iter().all(|a| a.parse::<f32>().is_ok());
-        let at =
-            |msg: String| Error::SceneFile(Box::new(Diagnostic::at_line(path, text, i + 1, msg)));
+        let numbers_ok = |min: usize| {
+            args.len() >= min
+                && args
+                    .iter()
+                    .all(|a| a.parse::<f32>().is_ok_and(f32::is_finite))
+        };
+        let at = |msg: String| {
+            Err(Error::SceneFile(Box::new(Diagnostic::at_line(
+                path,
+                text,
+                i + 1,
+                msg,
+            ))))
+        };
         match keyword {
             "v" if !numbers_ok(3) => {
-                return at("expected a vertex position: v x y z".into());
+                return at("expected a vertex position: v x y z (finite numbers)".into());
             }
-            "vn" if !numbers_ok(3) => return at("expected a normal: vn x y z".into()),
-            "vt" if !numbers_ok(1) => return at("expected texture coordinates: vt u v".into()),
+            "vn" if !numbers_ok(3) => return at("expected a normal: vn x y z (finite numbers)".into()),
+            "vt" if !numbers_ok(1) => {
+                return at("expected texture coordinates: vt u v (finite numbers)".into());
+            }
             "v" => v += 1,
             "vn" => vn += 1,
             "vt" => vt += 1,
@@ -253,5 +276,5 @@ fn locate(path: &Path, text: &str, e: &tobj::LoadError) -> Error {
             _ => {}
         }
     }
-    file_error(path, format!("cannot read the OBJ file: {e}"))
+    Ok(())
 }
