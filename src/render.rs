@@ -32,6 +32,27 @@ pub struct RenderSettings {
 /// cannot exhaust memory.
 pub const MAX_RESOLUTION: u32 = 32_768;
 
+/// Most memory the per-pixel state of one render may take: 8 GiB. (An SPPM render of
+/// 32768² asked for 68 GB and aborted while allocating.)
+pub const MAX_PIXEL_BYTES: u64 = 8 << 30;
+
+/// What a render keeps per pixel: the beauty and five AOV images of 3 × f32.
+pub const RENDER_BYTES_PER_PIXEL: u64 = 6 * 12;
+
+/// Refuse, with the estimate, a resolution whose per-pixel state would exceed
+/// [`MAX_PIXEL_BYTES`].
+pub fn check_pixel_memory(width: u32, height: u32, bytes_per_pixel: u64, what: &str) -> Result<()> {
+    let bytes = u64::from(width) * u64::from(height) * bytes_per_pixel;
+    if bytes > MAX_PIXEL_BYTES {
+        return Err(Error::InvalidSetting(format!(
+            "{what} of {width}×{height} would need {:.1} GB for its pixels ({bytes_per_pixel} bytes each), more than the {:.1} GB allowed; render smaller",
+            bytes as f64 / 1e9,
+            MAX_PIXEL_BYTES as f64 / 1e9
+        )));
+    }
+    Ok(())
+}
+
 impl RenderSettings {
     pub fn validate(&self) -> Result<()> {
         let bad = |m: String| Err(Error::InvalidSetting(m));
@@ -47,6 +68,7 @@ impl RenderSettings {
                 self.width, self.height
             ));
         }
+        check_pixel_memory(self.width, self.height, RENDER_BYTES_PER_PIXEL, "a render")?;
         if self.spp == 0 {
             return bad("samples per pixel must be at least 1".into());
         }

@@ -45,6 +45,19 @@ fn out_of_range_flags_are_refused() {
         let o = tiny(&dir, &args);
         assert_usage_error(&o, needle);
     }
+    // Resolutions whose pixels alone would not fit: refused with the estimate, before any
+    // allocation (SPPM at 32768² aborted asking for 68 GB).
+    for integrator in [
+        &["--integrator", "sppm", "--passes", "1"][..],
+        &["--integrator", "path"],
+    ] {
+        let mut args = vec![
+            "render", "s.toml", "--width", "32768", "--height", "32768", "-q", "-o", "big.exr",
+        ];
+        args.extend_from_slice(integrator);
+        let o = photon(&args, &dir);
+        assert_usage_error(&o, "GB for its pixels");
+    }
 }
 
 #[test]
@@ -317,8 +330,21 @@ fn checkpoints_survive_reruns_and_kills() {
     let ppm = |out: &str, passes: &str| {
         photon(
             &[
-                "render", "s.toml", "--integrator", "ppm", "--passes", passes,
-                "--photons-per-pass", "2000", "--width", "16", "--height", "16", "-q", "-o", out,
+                "render",
+                "s.toml",
+                "--integrator",
+                "ppm",
+                "--passes",
+                passes,
+                "--photons-per-pass",
+                "2000",
+                "--width",
+                "16",
+                "--height",
+                "16",
+                "-q",
+                "-o",
+                out,
             ],
             &dir,
         )
@@ -328,13 +354,29 @@ fn checkpoints_survive_reruns_and_kills() {
     let before = std::fs::read(dir.join("good.checkpoint")).expect("checkpoint");
     let o = ppm("good.exr", "1");
     assert_usage_error(&o, "--resume");
-    assert_eq!(std::fs::read(dir.join("good.checkpoint")).expect("still there"), before);
+    assert_eq!(
+        std::fs::read(dir.join("good.checkpoint")).expect("still there"),
+        before
+    );
 
     // Killed mid-run: the checkpoint of its first passes is there and resumes exactly.
     let mut child = Command::new(env!("CARGO_BIN_EXE_photon"))
         .args([
-            "render", "s.toml", "--integrator", "ppm", "--passes", "100000",
-            "--photons-per-pass", "2000", "--width", "16", "--height", "16", "-q", "-o", "k.exr",
+            "render",
+            "s.toml",
+            "--integrator",
+            "ppm",
+            "--passes",
+            "100000",
+            "--photons-per-pass",
+            "2000",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "-q",
+            "-o",
+            "k.exr",
         ])
         .current_dir(&dir)
         .stderr(Stdio::piped())
@@ -349,14 +391,20 @@ fn checkpoints_survive_reruns_and_kills() {
     child.kill().expect("SIGKILL");
     let _ = child.wait();
     assert!(ck.exists(), "no checkpoint after the first pass");
-    let o = photon(&["render", "--resume", "k.checkpoint", "--passes", "4", "-q"], &dir);
+    let o = photon(
+        &["render", "--resume", "k.checkpoint", "--passes", "4", "-q"],
+        &dir,
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let o = ppm("whole.exr", "4");
     assert!(o.status.success(), "{}", stderr(&o));
     let resumed = photon::io::checkpoint::load(&ck).expect("loads");
     let whole = photon::io::checkpoint::load(&dir.join("whole.checkpoint")).expect("loads");
     assert_eq!(resumed.passes, whole.passes);
-    assert!(resumed.ppm == whole.ppm, "a resumed run differs from an uninterrupted one");
+    assert!(
+        resumed.ppm == whole.ppm,
+        "a resumed run differs from an uninterrupted one"
+    );
 }
 
 /// Numbers read from files follow the TOML reader's rules: an OBJ vertex of NaN, a face of two
@@ -372,7 +420,11 @@ fn non_finite_and_negative_numbers_in_files_are_errors() {
         )
     };
     for (name, text, needle) in [
-        ("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "nan.obj:1"),
+        (
+            "nan.obj",
+            "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+            "nan.obj:1",
+        ),
         ("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "two.obj:4"),
     ] {
         std::fs::write(dir.join(name), text).expect("write");
@@ -421,14 +473,25 @@ fn non_finite_and_negative_numbers_in_files_are_errors() {
         })
     };
     for (doc, needle) in [
-        (gltf(serde_json::json!({"name": "m"}), -100.0), "not negative"),
         (
-            gltf(serde_json::json!({"name": "m", "pbrMetallicRoughness": {"baseColorFactor": [-1.0, 0.5, 0.5, 1.0]}}), 100.0),
+            gltf(serde_json::json!({"name": "m"}), -100.0),
+            "not negative",
+        ),
+        (
+            gltf(
+                serde_json::json!({"name": "m", "pbrMetallicRoughness": {"baseColorFactor": [-1.0, 0.5, 0.5, 1.0]}}),
+                100.0,
+            ),
             "negative",
         ),
     ] {
         std::fs::write(dir.join("bad.glb"), common::glb(&doc, &bin)).expect("write");
-        let o = photon(&["render", "bad.glb", "--width", "8", "--height", "8", "-q", "-o", "x.png"], &dir);
+        let o = photon(
+            &[
+                "render", "bad.glb", "--width", "8", "--height", "8", "-q", "-o", "x.png",
+            ],
+            &dir,
+        );
         assert_usage_error(&o, needle);
     }
 }

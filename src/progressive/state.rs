@@ -56,6 +56,17 @@ impl ProgressiveConfig {
                 self.width, self.height
             ));
         }
+        // Per pixel: SPPM's state (r², N, τ, direct: 8 × f64) or PPM's sums (3 × i128),
+        // plus the image.
+        let per_pixel = match self.method {
+            Method::Sppm => 64 + 12,
+            Method::Ppm => 48 + 12,
+        };
+        let what = match self.method {
+            Method::Sppm => "an SPPM render",
+            Method::Ppm => "a PPM render",
+        };
+        crate::render::check_pixel_memory(self.width, self.height, per_pixel, what)?;
         if !(self.alpha > 0.0 && self.alpha < 1.0) {
             return bad(format!("alpha {} must be in (0, 1)", self.alpha));
         }

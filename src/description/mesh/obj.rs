@@ -233,7 +233,9 @@ fn check_obj(path: &Path, text: &str) -> Result<()> {
             "v" if !numbers_ok(3) => {
                 return at("expected a vertex position: v x y z (finite numbers)".into());
             }
-            "vn" if !numbers_ok(3) => return at("expected a normal: vn x y z (finite numbers)".into()),
+            "vn" if !numbers_ok(3) => {
+                return at("expected a normal: vn x y z (finite numbers)".into());
+            }
             "vt" if !numbers_ok(1) => {
                 return at("expected texture coordinates: vt u v (finite numbers)".into());
             }
