@@ -41,6 +41,10 @@ fn out_of_range_flags_are_refused() {
         (vec!["--exposure", "nan"], "--exposure"),
         (vec!["--exposure", "1e30"], "--exposure"),
         (vec!["--indirect-scale", "3.4e38"], "--indirect-scale"),
+        // Flags the integrator does not read were accepted and ignored.
+        (vec!["--checkpoint", "c.checkpoint"], "for --integrator sppm or ppm"),
+        (vec!["--snapshots"], "for --integrator sppm or ppm"),
+        (vec!["--integrator", "path", "--gather-rays", "8"], "for --integrator photon"),
     ] {
         let o = tiny(&dir, &args);
         assert_usage_error(&o, needle);

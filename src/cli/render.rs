@@ -327,8 +327,18 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if matches!(a.integrator(), IntegratorName::Sppm | IntegratorName::Ppm) {
         return run_progressive(&a, &scene, budget);
     }
-    if a.pass_range.is_some() || a.passes.is_some() || a.time.is_some() {
-        bail!("--passes, --time and --pass-range are for --integrator sppm or ppm");
+    let progressive_only = [
+        (a.pass_range.is_some(), "--pass-range"),
+        (a.passes.is_some(), "--passes"),
+        (a.time.is_some(), "--time"),
+        (a.checkpoint.is_some(), "--checkpoint"),
+        (a.snapshots, "--snapshots"),
+        (a.alpha.is_some(), "--alpha"),
+        (a.photons_per_pass.is_some(), "--photons-per-pass"),
+    ];
+    if let Some((_, flag)) = progressive_only.iter().find(|(given, _)| *given) {
+        // Accepted and ignored, it let a user believe a checkpoint was being written.
+        bail!("{flag} is for --integrator sppm or ppm");
     }
     let output = a
         .output
