@@ -42,9 +42,15 @@ fn out_of_range_flags_are_refused() {
         (vec!["--exposure", "1e30"], "--exposure"),
         (vec!["--indirect-scale", "3.4e38"], "--indirect-scale"),
         // Flags the integrator does not read were accepted and ignored.
-        (vec!["--checkpoint", "c.checkpoint"], "for --integrator sppm or ppm"),
+        (
+            vec!["--checkpoint", "c.checkpoint"],
+            "for --integrator sppm or ppm",
+        ),
         (vec!["--snapshots"], "for --integrator sppm or ppm"),
-        (vec!["--integrator", "path", "--gather-rays", "8"], "for --integrator photon"),
+        (
+            vec!["--integrator", "path", "--gather-rays", "8"],
+            "for --integrator photon",
+        ),
     ] {
         let o = tiny(&dir, &args);
         assert_usage_error(&o, needle);
@@ -498,4 +504,60 @@ fn non_finite_and_negative_numbers_in_files_are_errors() {
         );
         assert_usage_error(&o, needle);
     }
+}
+
+/// `--resume` from another folder finds the image (the checkpoint held a relative path), and
+/// keeps the run's `--exposure` (it was not stored, and the resumed PNG came out at 0).
+#[test]
+fn resume_works_from_anywhere_and_keeps_the_exposure() {
+    let dir = temp_dir("hardening-resume");
+    std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
+    let ppm = |out: &str, passes: &str| {
+        photon(
+            &[
+                "render",
+                "s.toml",
+                "--integrator",
+                "ppm",
+                "--passes",
+                passes,
+                "--photons-per-pass",
+                "2000",
+                "--width",
+                "16",
+                "--height",
+                "16",
+                "--exposure",
+                "2",
+                "-q",
+                "-o",
+                out,
+            ],
+            &dir,
+        )
+    };
+    assert!(ppm("r.png", "2").status.success());
+    assert!(ppm("whole.png", "3").status.success());
+    let elsewhere = temp_dir("hardening-resume-elsewhere");
+    let checkpoint = dir.join("r.checkpoint");
+    let o = photon(
+        &[
+            "render",
+            "--resume",
+            checkpoint.to_str().expect("utf-8"),
+            "--passes",
+            "3",
+            "-q",
+        ],
+        &elsewhere,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (a, b) = (
+        std::fs::read(dir.join("r.png")).expect("resumed image where it was"),
+        std::fs::read(dir.join("whole.png")).expect("whole"),
+    );
+    assert!(
+        a == b,
+        "the resumed PNG differs from an uninterrupted one at the same exposure"
+    );
 }

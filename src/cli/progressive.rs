@@ -88,8 +88,9 @@ pub fn run(
     let mut photons = 0u64;
     let mut rays = 0u64;
     let info = RunInfo {
-        output: Some(out.image.clone()),
+        output: Some(std::path::absolute(&out.image).unwrap_or_else(|_| out.image.clone())),
         target_passes: target,
+        exposure: Some(out.exposure),
     };
     let done = |state: &ProgressiveState| {
         target.is_some_and(|t| state.next_pass() >= t)
@@ -174,6 +175,7 @@ pub fn resume(
     path: &Path,
     budget: Budget,
     output: Option<&Path>,
+    exposure: f32,
     quiet: bool,
     pool: &rayon::ThreadPool,
 ) -> Result<()> {
@@ -202,7 +204,12 @@ pub fn resume(
         image,
         checkpoint: path.to_path_buf(),
         snapshots: false,
-        exposure: 0.0,
+        // An exposure given now wins; otherwise the run's own.
+        exposure: if exposure != 0.0 {
+            exposure
+        } else {
+            info.exposure.unwrap_or(0.0)
+        },
         quiet,
         partial: false,
     };

@@ -306,7 +306,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     if let Some(cp) = &a.resume {
         let pool = super::thread_pool(a.threads)?;
-        return progressive::resume(cp, budget, a.output.as_deref(), a.quiet, &pool);
+        return progressive::resume(cp, budget, a.output.as_deref(), a.exposure, a.quiet, &pool);
     }
     let (scene, spec, load_seconds) = super::scene_with(&a.scene, &a.env)?;
     let mut a = a;

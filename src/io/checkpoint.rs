@@ -41,13 +41,18 @@ struct Header {
     output: Option<String>,
     #[serde(default)]
     target_passes: Option<u64>,
+    #[serde(default)]
+    exposure: Option<f32>,
 }
 
 /// How the run that wrote a checkpoint was set up, so `--resume` can carry on alone.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct RunInfo {
+    /// The output image, absolute (a relative one failed to resume from another folder).
     pub output: Option<std::path::PathBuf>,
     pub target_passes: Option<u64>,
+    /// The PNG exposure the run was asked for, which `--resume` keeps.
+    pub exposure: Option<f32>,
 }
 
 fn bad(path: &Path, m: impl Into<String>) -> Error {
@@ -83,6 +88,7 @@ pub fn save_with(state: &ProgressiveState, info: &RunInfo, path: &Path) -> Resul
             .as_ref()
             .map(|p| p.to_string_lossy().into_owned()),
         target_passes: info.target_passes,
+        exposure: info.exposure,
     };
     let json = serde_json::to_vec(&header).map_err(|e| bad(path, e.to_string()))?;
     let mut bytes = Vec::new();
@@ -200,6 +206,7 @@ pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
     let info = RunInfo {
         output: hd.output.map(std::path::PathBuf::from),
         target_passes: hd.target_passes,
+        exposure: hd.exposure,
     };
     let mut state = ProgressiveState {
         config,
