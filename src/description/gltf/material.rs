@@ -166,6 +166,24 @@ fn texture_of(
         return Ok(done.clone());
     }
     let label = g.path.join(format!("images[{}]", image.index()));
+    // `gltf` unwraps these two when asked for the source (fuzzing found the panics).
+    if let Some(json) = g.doc.as_json().images.get(image.index()) {
+        match (&json.buffer_view, &json.mime_type, &json.uri) {
+            (Some(_), None, _) => {
+                return Err(g.error(format!(
+                    "image {} lies in a bufferView but gives no mimeType",
+                    image.index()
+                )));
+            }
+            (None, _, None) => {
+                return Err(g.error(format!(
+                    "image {} has neither a uri nor a bufferView",
+                    image.index()
+                )));
+            }
+            _ => {}
+        }
+    }
     let bytes = match image.source() {
         gltf::image::Source::View { view, .. } => {
             let buffer = g

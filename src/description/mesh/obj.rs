@@ -28,7 +28,7 @@ pub fn read(path: &Path) -> Result<MeshFile> {
         let mtl_path = dir.join(mtl);
         let checked = crate::io::input::read_file(&mtl_path).and_then(|bytes| {
             let text = String::from_utf8_lossy(&bytes).into_owned();
-            check_mtl(&mtl_path, &text).map(|()| text)
+            check_mtl(&mtl_path, &text)
         });
         match checked {
             Ok(text) => tobj::load_mtl_buf(&mut text.as_bytes()),
@@ -149,13 +149,18 @@ fn convert(m: &tobj::Material, warnings: &mut Vec<String>) -> ImportedMaterial {
     }
 }
 
-/// Check an MTL file's numeric statements before `tobj` reads them: colours take one number
-/// or three (`Kd 1 2` panicked `tobj`), scalars one, `illum` an integer; every number finite.
-fn check_mtl(path: &Path, text: &str) -> Result<()> {
+/// Check an MTL file's numeric statements before `tobj` reads them, and return the text with
+/// one-number colours written out as three (the format allows `Kd 0.5`; `tobj` panicked on it,
+/// and on `Kd 1 2`, as fuzzing found): colours take one number or three, scalars one, `illum`
+/// an integer; every number finite.
+fn check_mtl(path: &Path, text: &str) -> Result<String> {
+    let mut normalised = String::with_capacity(text.len());
     for (i, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("").trim();
         let mut words = line.split_whitespace();
         let Some(keyword) = words.next() else {
+            normalised.push_str(raw);
+            normalised.push('\n');
             continue;
         };
         let args: Vec<&str> = words.collect();
@@ -179,6 +184,10 @@ fn check_mtl(path: &Path, text: &str) -> Result<()> {
                         "expected a colour: {keyword} r g b (or one number), finite"
                     ));
                 }
+                if n.len() == 1 {
+                    normalised.push_str(&format!("{keyword} {0} {0} {0}\n", args[0]));
+                    continue;
+                }
             }
             "Ns" | "Ni" | "d" | "Tr" => {
                 let n = numbers();
@@ -191,8 +200,10 @@ fn check_mtl(path: &Path, text: &str) -> Result<()> {
             }
             _ => {}
         }
+        normalised.push_str(raw);
+        normalised.push('\n');
     }
-    Ok(())
+    Ok(normalised)
 }
 
 /// Turn a `tobj` error into a located diagnostic by finding the first line that causes it.
