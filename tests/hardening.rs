@@ -22,6 +22,29 @@ position = [0.0, 2.0, 2.0]
 power = 50.0
 "#;
 
+/// A small PPM render of `s.toml` in `dir` into `out`, with `extra` flags.
+fn ppm(dir: &std::path::Path, out: &str, passes: &str, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "render",
+        "s.toml",
+        "--integrator",
+        "ppm",
+        "--passes",
+        passes,
+        "--photons-per-pass",
+        "2000",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "-q",
+        "-o",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    photon(&args, dir)
+}
+
 fn tiny(dir: &std::path::Path, extra: &[&str]) -> std::process::Output {
     let mut args = vec![
         "render", "s.toml", "--width", "8", "--height", "8", "-q", "-o", "x.png",
@@ -341,32 +364,10 @@ fn nothing_the_user_had_is_overwritten() {
 fn checkpoints_survive_reruns_and_kills() {
     let dir = temp_dir("hardening-kill");
     std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
-    let ppm = |out: &str, passes: &str| {
-        photon(
-            &[
-                "render",
-                "s.toml",
-                "--integrator",
-                "ppm",
-                "--passes",
-                passes,
-                "--photons-per-pass",
-                "2000",
-                "--width",
-                "16",
-                "--height",
-                "16",
-                "-q",
-                "-o",
-                out,
-            ],
-            &dir,
-        )
-    };
-    let o = ppm("good.exr", "3");
+    let o = ppm(&dir, "good.exr", "3", &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let before = std::fs::read(dir.join("good.checkpoint")).expect("checkpoint");
-    let o = ppm("good.exr", "1");
+    let o = ppm(&dir, "good.exr", "1", &[]);
     assert_usage_error(&o, "--resume");
     assert_eq!(
         std::fs::read(dir.join("good.checkpoint")).expect("still there"),
@@ -410,7 +411,7 @@ fn checkpoints_survive_reruns_and_kills() {
         &dir,
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    let o = ppm("whole.exr", "4");
+    let o = ppm(&dir, "whole.exr", "4", &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let resumed = photon::io::checkpoint::load(&ck).expect("loads");
     let whole = photon::io::checkpoint::load(&dir.join("whole.checkpoint")).expect("loads");
@@ -516,32 +517,16 @@ fn non_finite_and_negative_numbers_in_files_are_errors() {
 fn resume_works_from_anywhere_and_keeps_the_exposure() {
     let dir = temp_dir("hardening-resume");
     std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
-    let ppm = |out: &str, passes: &str| {
-        photon(
-            &[
-                "render",
-                "s.toml",
-                "--integrator",
-                "ppm",
-                "--passes",
-                passes,
-                "--photons-per-pass",
-                "2000",
-                "--width",
-                "16",
-                "--height",
-                "16",
-                "--exposure",
-                "2",
-                "-q",
-                "-o",
-                out,
-            ],
-            &dir,
-        )
-    };
-    assert!(ppm("r.png", "2").status.success());
-    assert!(ppm("whole.png", "3").status.success());
+    assert!(
+        ppm(&dir, "r.png", "2", &["--exposure", "2"])
+            .status
+            .success()
+    );
+    assert!(
+        ppm(&dir, "whole.png", "3", &["--exposure", "2"])
+            .status
+            .success()
+    );
     let elsewhere = temp_dir("hardening-resume-elsewhere");
     let checkpoint = dir.join("r.checkpoint");
     let o = photon(

@@ -164,14 +164,7 @@ fn check_mtl(path: &Path, text: &str) -> Result<String> {
             continue;
         };
         let args: Vec<&str> = words.collect();
-        let at = |msg: String| {
-            Err(Error::SceneFile(Box::new(Diagnostic::at_line(
-                path,
-                text,
-                i + 1,
-                msg,
-            ))))
-        };
+        let at = |msg: String| line_error(path, text, i + 1, msg);
         let numbers = || args.iter().map(|a| a.parse::<f32>()).collect::<Vec<_>>();
         let finite = |n: &[std::result::Result<f32, _>]| {
             n.iter().all(|x| x.as_ref().is_ok_and(|v| v.is_finite()))
@@ -206,6 +199,13 @@ fn check_mtl(path: &Path, text: &str) -> Result<String> {
     Ok(normalised)
 }
 
+/// An error at line `line` of a file, with the line shown.
+fn line_error<T>(path: &Path, text: &str, line: usize, msg: String) -> Result<T> {
+    Err(Error::SceneFile(Box::new(Diagnostic::at_line(
+        path, text, line, msg,
+    ))))
+}
+
 /// Turn a `tobj` error into a located diagnostic by finding the first line that causes it.
 fn locate(path: &Path, text: &str, e: &tobj::LoadError) -> Error {
     match check_obj(path, text) {
@@ -232,14 +232,7 @@ fn check_obj(path: &Path, text: &str) -> Result<()> {
                     .iter()
                     .all(|a| a.parse::<f32>().is_ok_and(f32::is_finite))
         };
-        let at = |msg: String| {
-            Err(Error::SceneFile(Box::new(Diagnostic::at_line(
-                path,
-                text,
-                i + 1,
-                msg,
-            ))))
-        };
+        let at = |msg: String| line_error(path, text, i + 1, msg);
         match keyword {
             "v" if !numbers_ok(3) => {
                 return at("expected a vertex position: v x y z (finite numbers)".into());
