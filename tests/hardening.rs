@@ -598,3 +598,53 @@ fn fuzzing_regressions_stay_fixed() {
     }
     assert!(seen >= 2, "the regression inputs are in the corpus");
 }
+
+/// A first Ctrl-C finishes the pass and saves; a second one stops at once (exit 130), and the
+/// checkpoint written before is intact.
+#[test]
+fn a_second_interrupt_stops_at_once() {
+    let dir = temp_dir("hardening-sigint");
+    std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
+    // Passes of 12 M photons take about a second here; the two signals, 50 ms apart, arrive
+    // within one.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_photon"))
+        .args([
+            "render",
+            "s.toml",
+            "--integrator",
+            "ppm",
+            "--passes",
+            "1000",
+            "--photons-per-pass",
+            "12000000",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "-q",
+            "-o",
+            "i.exr",
+        ])
+        .current_dir(&dir)
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let ck = dir.join("i.checkpoint");
+    let mut waited = 0;
+    while !ck.exists() && waited < 1200 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        waited += 1;
+    }
+    assert!(ck.exists(), "no checkpoint after the first pass");
+    let pid = child.id().to_string();
+    for _ in 0..2 {
+        let _ = Command::new("kill").args(["-INT", &pid]).status();
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let out = child.wait_with_output().expect("waits");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    let state = photon::io::checkpoint::load(&ck).expect("the checkpoint is intact");
+    assert!(state.passes >= 1);
+}

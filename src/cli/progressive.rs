@@ -52,8 +52,14 @@ fn snapshot_path(output: &Path, pass: u64) -> PathBuf {
 fn interrupt_flag() -> Arc<AtomicBool> {
     let flag = Arc::new(AtomicBool::new(false));
     let f = flag.clone();
-    // Ctrl-C and `kill` (SIGTERM) finish the current pass, then save and stop.
-    let _ = ctrlc::set_handler(move || f.store(true, Ordering::SeqCst));
+    // Ctrl-C and `kill` (SIGTERM) finish the current pass, then save and stop. A second one
+    // stops at once: the checkpoint written last (atomically) is kept as it was.
+    let _ = ctrlc::set_handler(move || {
+        if f.swap(true, Ordering::SeqCst) {
+            eprintln!("photon: interrupted again: stopping now; the last checkpoint is kept");
+            std::process::exit(130);
+        }
+    });
     flag
 }
 
