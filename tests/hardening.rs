@@ -607,7 +607,7 @@ fn a_second_interrupt_stops_at_once() {
     std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
     // Passes of 12 M photons take about a second here; the two signals, 50 ms apart, arrive
     // within one.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_photon"))
+    let child = Command::new(env!("CARGO_BIN_EXE_photon"))
         .args([
             "render",
             "s.toml",
