@@ -45,6 +45,41 @@ fn ppm(dir: &std::path::Path, out: &str, passes: &str, extra: &[&str]) -> std::p
     photon(&args, dir)
 }
 
+/// A long PPM render of `s.toml` in `dir` into `out` (`photons` per pass), started in the
+/// background and waited on until its first checkpoint is written (up to a minute).
+fn ppm_until_checkpoint(dir: &std::path::Path, out: &str, photons: &str) -> std::process::Child {
+    let child = Command::new(env!("CARGO_BIN_EXE_photon"))
+        .args([
+            "render",
+            "s.toml",
+            "--integrator",
+            "ppm",
+            "--passes",
+            "100000",
+            "--photons-per-pass",
+            photons,
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "-q",
+            "-o",
+            out,
+        ])
+        .current_dir(dir)
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let ck = dir.join(out).with_extension("checkpoint");
+    let mut waited = 0;
+    while !ck.exists() && waited < 1200 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        waited += 1;
+    }
+    assert!(ck.exists(), "no checkpoint after the first pass");
+    child
+}
+
 fn tiny(dir: &std::path::Path, extra: &[&str]) -> std::process::Output {
     let mut args = vec![
         "render", "s.toml", "--width", "8", "--height", "8", "-q", "-o", "x.png",
@@ -375,37 +410,10 @@ fn checkpoints_survive_reruns_and_kills() {
     );
 
     // Killed mid-run: the checkpoint of its first passes is there and resumes exactly.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_photon"))
-        .args([
-            "render",
-            "s.toml",
-            "--integrator",
-            "ppm",
-            "--passes",
-            "100000",
-            "--photons-per-pass",
-            "2000",
-            "--width",
-            "16",
-            "--height",
-            "16",
-            "-q",
-            "-o",
-            "k.exr",
-        ])
-        .current_dir(&dir)
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn");
+    let mut child = ppm_until_checkpoint(&dir, "k.exr", "2000");
     let ck = dir.join("k.checkpoint");
-    let mut waited = 0;
-    while !ck.exists() && waited < 600 {
-        std::thread::sleep(std::time::Duration::from_millis(100));
-        waited += 1;
-    }
     child.kill().expect("SIGKILL");
     let _ = child.wait();
-    assert!(ck.exists(), "no checkpoint after the first pass");
     let o = photon(
         &["render", "--resume", "k.checkpoint", "--passes", "4", "-q"],
         &dir,
@@ -607,35 +615,8 @@ fn a_second_interrupt_stops_at_once() {
     std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
     // Passes of 12 M photons take about a second here; the two signals, 50 ms apart, arrive
     // within one.
-    let child = Command::new(env!("CARGO_BIN_EXE_photon"))
-        .args([
-            "render",
-            "s.toml",
-            "--integrator",
-            "ppm",
-            "--passes",
-            "1000",
-            "--photons-per-pass",
-            "12000000",
-            "--width",
-            "16",
-            "--height",
-            "16",
-            "-q",
-            "-o",
-            "i.exr",
-        ])
-        .current_dir(&dir)
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn");
+    let child = ppm_until_checkpoint(&dir, "i.exr", "12000000");
     let ck = dir.join("i.checkpoint");
-    let mut waited = 0;
-    while !ck.exists() && waited < 1200 {
-        std::thread::sleep(std::time::Duration::from_millis(50));
-        waited += 1;
-    }
-    assert!(ck.exists(), "no checkpoint after the first pass");
     let pid = child.id().to_string();
     for _ in 0..2 {
         let _ = Command::new("kill").args(["-INT", &pid]).status();
