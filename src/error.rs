@@ -16,6 +16,11 @@ pub enum Error {
     #[error("invalid scene: {0}")]
     InvalidScene(String),
 
+    /// A problem with object `index` of a scene builder (in the order objects were added),
+    /// which the scene description maps back to the shape or light that made it.
+    #[error("invalid scene: object {index} {message}")]
+    InvalidObject { index: usize, message: String },
+
     #[error("invalid setting: {0}")]
     InvalidSetting(String),
 

@@ -144,7 +144,52 @@ fn coordinates_beyond_the_limit_are_errors_not_bvh_panics() {
         std::fs::write(dir.join("s.toml"), text).expect("write");
         let o = tiny(&dir, &[]);
         assert_usage_error(&o, "beyond");
-        assert!(stderr(&o).contains("object 0"), "{what}: {}", stderr(&o));
+        // Located at the shape's table (line 7 of SPHERE), named as the file names it.
+        assert!(
+            stderr(&o).contains("s.toml:7:1: shape 1 reaches"),
+            "{what}: {}",
+            stderr(&o)
+        );
+    }
+}
+
+/// Problems that only the scene build finds were reported with no file or line.
+#[test]
+fn build_errors_name_the_file_line_and_item() {
+    let dir = temp_dir("hardening-build-errors");
+    let light = |body: &str| format!("{SPHERE}[[lights]]\n{body}\n");
+    for (text, needle) in [
+        (
+            // An emitter given by its power on a quad of no area.
+            light(
+                "type = \"quad\"\nvertices = [[0,2,0],[0,2,0],[0,2,0],[0,2,0]]\npower = [10, 10, 10]",
+            ),
+            "s.toml:15:1: light 2: an emitter given by its power has no area",
+        ),
+        (
+            SPHERE.replace(
+                "material = \"white\"",
+                "material = \"white\"\ntransform = [{ scale = [1.0, 2.0, 1.0] }]",
+            ),
+            "s.toml:7:1: shape 1: spheres and disks accept only rotation, translation and uniform scale",
+        ),
+        (
+            // Finite power over a sliver of area: the radiance overflows.
+            light(
+                "type = \"quad\"\nvertices = [[0,2,0],[1e-9,2,0],[1e-9,2,1e-9],[0,2,1e-9]]\npower = [3e38, 3e38, 3e38]",
+            ),
+            "s.toml:15:1: light 2 has an invalid emission",
+        ),
+        (
+            SPHERE
+                .replace("[0.0, 0.0, 4.0]", "[0.0, 0.0, 3e38]")
+                .replace("look_at = [0.0, 0.0, 0.0]", "look_at = [0.0, 0.0, -3e38]"),
+            "s.toml:2:1: [camera]: the camera is degenerate",
+        ),
+    ] {
+        std::fs::write(dir.join("s.toml"), text).expect("write");
+        let o = tiny(&dir, &[]);
+        assert_usage_error(&o, needle);
     }
 }
 

@@ -2,12 +2,12 @@
 //! transforms, mesh files, lights given by power or radiance.
 
 use super::mesh::{self, ImportedMaterial};
-use super::source::Diagnostic;
+use super::source::{Diagnostic, Item};
 use super::{
     ColorSpec, ConductorSpec, EmissionSpec, EnvironmentSpec, ImageRef, Intensity, LightSpec,
     MaterialSpec, SceneDesc, ShapeKind, ShapeSpec, Sky, compose,
 };
-use crate::camera::CameraDesc;
+use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
 use crate::geometry::{Disk, Shape, Sphere};
 use crate::io::texture::Encoding;
@@ -41,16 +41,19 @@ pub fn build(desc: &SceneDesc) -> Result<Scene> {
 pub fn build_with(desc: &SceneDesc, cache: &mut MeshCache) -> Result<Scene> {
     let mut b = SceneBuilder::new(&desc.name);
     let c = &desc.camera;
-    b.camera(
-        CameraDesc {
-            position: c.position,
-            look_at: c.look_at,
-            up: c.up,
-            fov_y_deg: c.fov_y_deg,
-        },
-        c.width,
-        c.height,
-    );
+    let camera = CameraDesc {
+        position: c.position,
+        look_at: c.look_at,
+        up: c.up,
+        fov_y_deg: c.fov_y_deg,
+    };
+    if Camera::new(&camera, c.width, c.height).is_none() {
+        let message = "the camera is degenerate (look-at equals position, up parallel to the view, or field of view outside (0°, 180°))";
+        return Err(desc
+            .origins
+            .locate(Item::Camera, Error::InvalidScene(message.into())));
+    }
+    b.camera(camera, c.width, c.height);
     let mut ctx = Context {
         base_dir: &desc.base_dir,
         materials: HashMap::new(),
@@ -62,57 +65,78 @@ pub fn build_with(desc: &SceneDesc, cache: &mut MeshCache) -> Result<Scene> {
         let id = add_material(&mut b, spec, ctx.base_dir)?;
         ctx.materials.insert(name.clone(), id);
     }
-    for shape in &desc.shapes {
-        add_shape(&mut b, &mut ctx, shape)?;
+    // The first builder object of each item, so that an object's error names its item.
+    let mut first_objects: Vec<(usize, Item)> = Vec::new();
+    for (i, shape) in desc.shapes.iter().enumerate() {
+        first_objects.push((b.object_count(), Item::Shape(i)));
+        add_shape(&mut b, &mut ctx, shape).map_err(|e| desc.origins.locate(Item::Shape(i), e))?;
     }
-    for light in &desc.lights {
-        match light {
-            LightSpec::Point {
-                position,
-                intensity,
-            } => {
-                let i = match *intensity {
-                    Intensity::Intensity(i) => i,
-                    Intensity::Power(p) => p / (4.0 * PI),
-                };
-                b.point_light(*position, i);
-            }
-            LightSpec::Spot {
-                position,
-                look_at,
-                intensity,
-                angle_deg,
-                falloff_deg,
-            } => {
-                let reach = (*look_at - *position).length_squared();
-                if reach.is_nan() || reach <= 0.0 {
-                    return Err(Error::InvalidScene(
-                        "a spot light points nowhere: its look_at equals its position".into(),
-                    ));
-                }
-                let make = |i: Rgb| {
-                    SpotLight::new(*position, *look_at - *position, i, *angle_deg, *falloff_deg)
-                };
-                let i = match *intensity {
-                    Intensity::Intensity(i) => i,
-                    // Power is linear in intensity: scale a unit light's power.
-                    Intensity::Power(p) => p / make(Rgb::ONE).power().x,
-                };
-                b.spot_light(make(i));
-            }
-            LightSpec::Directional {
-                direction,
-                irradiance,
-            } => {
-                b.directional_light(*direction, *irradiance);
-            }
-            LightSpec::Area(shape) => add_shape(&mut b, &mut ctx, shape)?,
-            LightSpec::Environment(e) => {
-                b.environment_light(environment_light(e, ctx.base_dir)?);
+    for (i, light) in desc.lights.iter().enumerate() {
+        first_objects.push((b.object_count(), Item::Light(i)));
+        add_light(&mut b, &mut ctx, light).map_err(|e| desc.origins.locate(Item::Light(i), e))?;
+    }
+    b.build().map_err(|e| match e {
+        Error::InvalidObject { index, .. } => {
+            match first_objects
+                .iter()
+                .rev()
+                .find(|(first, _)| *first <= index)
+            {
+                Some(&(_, item)) => desc.origins.locate(item, e),
+                None => e,
             }
         }
+        other => other,
+    })
+}
+
+fn add_light(b: &mut SceneBuilder, ctx: &mut Context, light: &LightSpec) -> Result<()> {
+    match light {
+        LightSpec::Point {
+            position,
+            intensity,
+        } => {
+            let i = match *intensity {
+                Intensity::Intensity(i) => i,
+                Intensity::Power(p) => p / (4.0 * PI),
+            };
+            b.point_light(*position, i);
+        }
+        LightSpec::Spot {
+            position,
+            look_at,
+            intensity,
+            angle_deg,
+            falloff_deg,
+        } => {
+            let reach = (*look_at - *position).length_squared();
+            if reach.is_nan() || reach <= 0.0 {
+                return Err(Error::InvalidScene(
+                    "a spot light points nowhere: its look_at equals its position".into(),
+                ));
+            }
+            let make = |i: Rgb| {
+                SpotLight::new(*position, *look_at - *position, i, *angle_deg, *falloff_deg)
+            };
+            let i = match *intensity {
+                Intensity::Intensity(i) => i,
+                // Power is linear in intensity: scale a unit light's power.
+                Intensity::Power(p) => p / make(Rgb::ONE).power().x,
+            };
+            b.spot_light(make(i));
+        }
+        LightSpec::Directional {
+            direction,
+            irradiance,
+        } => {
+            b.directional_light(*direction, *irradiance);
+        }
+        LightSpec::Area(shape) => add_shape(b, ctx, shape)?,
+        LightSpec::Environment(e) => {
+            b.environment_light(environment_light(e, ctx.base_dir)?);
+        }
     }
-    b.build()
+    Ok(())
 }
 
 struct Context<'a> {

@@ -33,6 +33,8 @@ pub struct SceneDesc {
     pub lights: Vec<LightSpec>,
     /// Directory that relative file names are resolved against.
     pub base_dir: PathBuf,
+    /// Where the camera, shapes and lights were written, for messages from the scene build.
+    pub origins: source::Origins,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -334,6 +336,7 @@ impl SceneDesc {
             shapes: Vec::new(),
             lights: Vec::new(),
             base_dir: PathBuf::new(),
+            origins: source::Origins::default(),
         }
     }
 

@@ -1,8 +1,11 @@
 //! Located diagnostics for scene and mesh files: the file, the line and column, what was
 //! expected, and the offending line of text underlined.
 
+use crate::error::Error;
 use std::fmt;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A problem in a file, with its location when the format has lines.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -116,6 +119,120 @@ impl fmt::Display for Diagnostic {
             write!(f, "\n{e}")?;
         }
         Ok(())
+    }
+}
+
+/// Where the items of a scene description were written, so that problems only the scene build
+/// can find (an emitter given by power that has no area, a sphere scaled unevenly, a coordinate
+/// past the limit) are reported at the line that caused them.
+///
+/// Not part of what a scene is: descriptions that differ only in their origins are equal.
+#[derive(Clone, Default)]
+pub struct Origins {
+    file: Option<Arc<SourceFile>>,
+    camera: Option<Range<usize>>,
+    shapes: Vec<Range<usize>>,
+    lights: Vec<Range<usize>>,
+}
+
+struct SourceFile {
+    path: PathBuf,
+    /// The text that spans index, for text formats.
+    text: Option<String>,
+}
+
+/// One item of a scene description.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Item {
+    Camera,
+    /// 0-based index into `SceneDesc::shapes`.
+    Shape(usize),
+    /// 0-based index into `SceneDesc::lights`.
+    Light(usize),
+}
+
+impl fmt::Display for Item {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Camera => write!(f, "[camera]"),
+            Self::Shape(i) => write!(f, "shape {}", i + 1),
+            Self::Light(i) => write!(f, "light {}", i + 1),
+        }
+    }
+}
+
+impl Origins {
+    /// Origins in the text of file `path`; spans are added as the items are read.
+    pub fn in_file(path: &Path, text: &str) -> Self {
+        Self {
+            file: Some(Arc::new(SourceFile {
+                path: path.to_owned(),
+                text: Some(text.to_owned()),
+            })),
+            ..Self::default()
+        }
+    }
+
+    /// Origins in a binary file (glTF): messages name the file and the item, not a line.
+    pub fn in_binary_file(path: &Path) -> Self {
+        Self {
+            file: Some(Arc::new(SourceFile {
+                path: path.to_owned(),
+                text: None,
+            })),
+            ..Self::default()
+        }
+    }
+
+    pub fn set_camera(&mut self, span: Range<usize>) {
+        self.camera = Some(span);
+    }
+
+    pub fn push_shape(&mut self, span: Range<usize>) {
+        self.shapes.push(span);
+    }
+
+    pub fn push_light(&mut self, span: Range<usize>) {
+        self.lights.push(span);
+    }
+
+    /// `error`, found while building `item`, named by that item and located at its span when
+    /// the item was read from a file. Errors that carry their own location pass unchanged.
+    pub fn locate(&self, item: Item, error: Error) -> Error {
+        let (message, separator) = match error {
+            Error::InvalidScene(m) => (m, ": "),
+            Error::InvalidObject { message, .. } => (message, " "),
+            other => return other,
+        };
+        let message = format!("{item}{separator}{message}");
+        let span = match item {
+            Item::Camera => self.camera.clone(),
+            Item::Shape(i) => self.shapes.get(i).cloned(),
+            Item::Light(i) => self.lights.get(i).cloned(),
+        };
+        let Some(file) = &self.file else {
+            return Error::InvalidScene(message);
+        };
+        let diagnostic = match (&file.text, span) {
+            (Some(text), Some(span)) => Diagnostic::at_span(&file.path, text, span, message),
+            _ => Diagnostic::whole_file(&file.path, message),
+        };
+        Error::SceneFile(Box::new(diagnostic))
+    }
+}
+
+impl PartialEq for Origins {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl fmt::Debug for Origins {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let path = self.file.as_ref().map(|s| s.path.display().to_string());
+        f.debug_struct("Origins")
+            .field("file", &path)
+            .finish_non_exhaustive()
     }
 }
 

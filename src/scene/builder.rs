@@ -73,6 +73,11 @@ impl SceneBuilder {
         }
     }
 
+    /// How many objects have been added: the index the next one will have in errors.
+    pub fn object_count(&self) -> usize {
+        self.objects.len()
+    }
+
     pub fn camera(&mut self, camera: CameraDesc, width: u32, height: u32) -> &mut Self {
         self.camera = Some(camera);
         self.resolution = (width, height);
@@ -152,7 +157,10 @@ impl SceneBuilder {
             .iter()
             .map(|s| s.transformed(&transform))
             .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| Error::InvalidScene(format!("object {}: {e}", self.objects.len())))?;
+            .map_err(|e| Error::InvalidObject {
+                index: self.objects.len(),
+                message: format!("cannot take its transform: {e}"),
+            })?;
         self.push_object(world, material, emission);
         Ok(self)
     }
@@ -406,18 +414,16 @@ impl SceneBuilder {
         let mut vertex_tangents = Vec::new();
         let mut lights = self.lights;
         for (i, o) in self.objects.into_iter().enumerate() {
+            let object_error = |message: String| Err(Error::InvalidObject { index: i, message });
             if o.material as usize >= self.materials.len() {
-                return invalid(format!(
-                    "object {i} uses material {} which does not exist",
-                    o.material
-                ));
+                return object_error(format!("uses material {} which does not exist", o.material));
             }
             let check = |s: &Shape| {
                 let b = s.bounds();
                 b.min.is_finite() && b.max.is_finite()
             };
             if !o.shapes.iter().all(check) {
-                return invalid(format!("object {i} has non-finite coordinates"));
+                return object_error("has non-finite coordinates".into());
             }
             // Bounds the BVH and the ray arithmetic can take (extents are squared).
             let reach = o
@@ -429,17 +435,14 @@ impl SceneBuilder {
                 })
                 .fold(0.0f32, f32::max);
             if reach > MAX_COORDINATE {
-                return invalid(format!(
-                    "object {i} reaches {reach:e} from the origin, beyond the ±{MAX_COORDINATE:e} that coordinates may have"
+                return object_error(format!(
+                    "reaches {reach:e} from the origin, beyond the ±{MAX_COORDINATE:e} that coordinates may have"
                 ));
             }
             let light = match o.emission {
                 Some(e) if e.radiance.max_element() > 0.0 => {
                     if !e.radiance.is_finite() || e.radiance.min_element() < 0.0 {
-                        return invalid(format!(
-                            "object {i} has an invalid emission {:?}",
-                            e.radiance
-                        ));
+                        return object_error(format!("has an invalid emission {}", e.radiance));
                     }
                     let light = AreaLight::new(o.shapes.clone(), e.radiance, e.two_sided);
                     let light = match (light, e.texture) {
@@ -451,7 +454,7 @@ impl SceneBuilder {
                             lights.push(Light::Area(l));
                             (lights.len() - 1) as u32
                         }
-                        None => return invalid(format!("emissive object {i} has no area")),
+                        None => return object_error("is emissive but has no area".into()),
                     }
                 }
                 _ => NO_LIGHT,

@@ -150,6 +150,7 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
         .map_or_else(|| "gltf".into(), |s| s.to_string_lossy().into_owned());
     let mut desc = SceneDesc::new(&name, camera);
     desc.base_dir = path.parent().map(Path::to_owned).unwrap_or_default();
+    desc.origins = crate::description::source::Origins::in_binary_file(path);
     desc.shapes.push(ShapeSpec {
         kind: ShapeKind::MeshFile {
             file: PathBuf::from(path.file_name().unwrap_or_default()),

@@ -9,7 +9,7 @@ mod scene;
 mod shapes;
 mod values;
 
-use super::source::Diagnostic;
+use super::source::{Diagnostic, Origins};
 use super::{LightSpec, RenderSpec, SceneDesc};
 use crate::error::{Error, Result};
 use scene::{camera, material, render};
@@ -59,6 +59,7 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
         base_dir,
     };
     let root = Table::new(&cx, doc.get_ref(), doc.span(), "the scene file");
+    let mut origins = Origins::in_file(path, text);
     root.allow(&["name", "camera", "render", "materials", "shapes", "lights"])?;
     let name = match root.opt_str("name")? {
         Some(n) => n.to_owned(),
@@ -67,7 +68,11 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
             .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned()),
     };
     let camera = match root.get("camera") {
-        Some(v) => camera(&cx.table(v, "[camera]")?)?,
+        Some(v) => {
+            let t = cx.table(v, "[camera]")?;
+            origins.set_camera(t.span.clone());
+            camera(&t)?
+        }
         None => {
             return Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
                 path,
@@ -94,12 +99,14 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
     let mut shapes = Vec::new();
     for (i, v) in root.array_of_tables("shapes")?.into_iter().enumerate() {
         let t = cx.table(v, &format!("shape {}", i + 1))?;
+        origins.push_shape(t.span.clone());
         shapes.push(shape(&t, &names, false)?);
     }
     let mut lights = Vec::new();
     for (i, v) in root.array_of_tables("lights")?.into_iter().enumerate() {
         let t = cx.table(v, &format!("light {}", i + 1))?;
         let l = light(&t, &names)?;
+        origins.push_light(t.span.clone());
         if matches!(l, LightSpec::Environment(_))
             && lights
                 .iter()
@@ -120,5 +127,6 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
         shapes,
         lights,
         base_dir: base_dir.to_owned(),
+        origins,
     })
 }
