@@ -12,6 +12,7 @@ pub mod film;
 pub mod geometry;
 pub mod integrator;
 pub mod io;
+pub mod job;
 pub mod light;
 pub mod material;
 pub mod math;

@@ -1,8 +1,13 @@
 //! Parallel, deterministic rendering of an image.
 //!
 //! The image is cut into tiles rendered by rayon in any order on any number of threads. Each
-//! sample's random stream is keyed by (seed, pixel index, sample index), and each pixel's
-//! samples are summed in sample order, so the image is bit-identical whatever the thread count.
+//! sample's random stream is keyed by (seed, pixel index, sample index), so the image is
+//! bit-identical whatever the thread count.
+//!
+//! A render may also take only samples `a..b` of each pixel's `spp` ([`render_samples`]), for
+//! a render split across machines. Its pixels are then sums ([`SampleSums`]) in 128-bit fixed
+//! point, which add exactly in any order: the sums of any split, added, are the sums of the
+//! whole render, and give its image bit for bit.
 
 use crate::camera::Camera;
 use crate::error::{Error, Result};
@@ -12,12 +17,13 @@ use crate::math::Rgb;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use rayon::prelude::*;
+use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 const TILE: u32 = 16;
 
 /// The pixels of one finished tile, with the rays it traced.
-type TileResult = (Vec<(u32, u32, Sample)>, RayStats);
+type TileResult = (Vec<(u32, u32, PixelMean)>, RayStats);
 
 #[derive(Clone, Debug)]
 pub struct RenderSettings {
@@ -36,8 +42,9 @@ pub const MAX_RESOLUTION: u32 = 32_768;
 /// 32768² asked for 68 GB and aborted while allocating.)
 pub const MAX_PIXEL_BYTES: u64 = 8 << 30;
 
-/// What a render keeps per pixel: the beauty and five AOV images of 3 × f32.
-pub const RENDER_BYTES_PER_PIXEL: u64 = 6 * 12;
+/// What a render keeps per pixel: the beauty and five AOV images of 3 × f32, and the
+/// fixed-point sums of four components (3 × i128 and a count each).
+pub const RENDER_BYTES_PER_PIXEL: u64 = 6 * 12 + 4 * 52;
 
 /// Refuse, with the estimate, a resolution whose per-pixel state would exceed
 /// [`MAX_PIXEL_BYTES`].
@@ -99,6 +106,8 @@ pub struct RenderOutput {
     pub aovs: Aovs,
     pub rays: RayStats,
     pub samples: u64,
+    /// The fixed-point sums behind `image` (and the photon integrator's components).
+    pub sums: SampleSums,
 }
 
 /// Render `scene` with `integrator`. `progress(done, total)` is called as tiles finish.
@@ -108,7 +117,25 @@ pub fn render(
     settings: &RenderSettings,
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<RenderOutput> {
+    render_samples(scene, integrator, settings, 0..settings.spp, progress)
+}
+
+/// Render samples `range` of each pixel's `settings.spp` (stratified over all `spp`). The
+/// output's `sums` added to those of the other ranges give [`render`]'s sums exactly.
+pub fn render_samples(
+    scene: &Scene,
+    integrator: &Integrator,
+    settings: &RenderSettings,
+    range: Range<u32>,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<RenderOutput> {
     settings.validate()?;
+    if range.is_empty() || range.end > settings.spp {
+        return Err(Error::InvalidSetting(format!(
+            "samples {}..{} are not a part of 0..{}",
+            range.start, range.end, settings.spp
+        )));
+    }
     let camera = Camera::new(&scene.camera, settings.width, settings.height)
         .ok_or_else(|| Error::InvalidScene("degenerate camera".into()))?;
     let tiles_x = settings.width.div_ceil(TILE);
@@ -123,7 +150,15 @@ pub fn render(
             let mut out = Vec::with_capacity((TILE * TILE) as usize);
             for y in ty * TILE..((ty + 1) * TILE).min(settings.height) {
                 for x in tx * TILE..((tx + 1) * TILE).min(settings.width) {
-                    let c = render_pixel(scene, integrator, &camera, settings, x, y, &mut stats);
+                    let c = render_pixel(
+                        scene,
+                        integrator,
+                        &camera,
+                        settings,
+                        range.clone(),
+                        (x, y),
+                        &mut stats,
+                    );
                     out.push((x, y, c));
                 }
             }
@@ -140,10 +175,14 @@ pub fn render(
         albedo: blank.clone(),
         normal: blank,
     };
+    let splits = integrator.splits_components();
+    let mut sums = SampleSums::new(settings, range.clone(), splits);
     let mut rays = RayStats::default();
     for (pixels, stats) in tiles {
         rays.add(&stats);
-        for (x, y, s) in pixels {
+        for (x, y, mean) in pixels {
+            sums.set(x, y, &mean);
+            let s = mean.finish(splits);
             image.set(x, y, s.beauty);
             aovs.direct.set(x, y, s.direct);
             aovs.caustic.set(x, y, s.caustic);
@@ -156,7 +195,10 @@ pub fn render(
         image,
         aovs,
         rays,
-        samples: u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.spp),
+        samples: u64::from(settings.width)
+            * u64::from(settings.height)
+            * u64::from(range.len() as u32),
+        sums,
     })
 }
 
@@ -165,29 +207,61 @@ fn render_pixel(
     integrator: &Integrator,
     camera: &Camera,
     s: &RenderSettings,
-    x: u32,
-    y: u32,
+    range: Range<u32>,
+    (x, y): (u32, u32),
     stats: &mut RayStats,
-) -> Sample {
+) -> PixelMean {
     let pixel = u64::from(y) * u64::from(s.width) + u64::from(x);
     let rotation = Rng::keyed(s.seed, &[pixel, u64::MAX]).next_2d();
     let mut mean = PixelMean::default();
-    for i in 0..s.spp {
+    for i in range {
         let mut rng = Rng::keyed(s.seed, &[pixel, u64::from(i)]);
         let u = stratified_2d(i, s.spp, rotation, rng.next_2d());
         let ray = camera.ray(s.filter.sample_position(x, y, u));
         mean.add(&integrator.sample(scene, &ray, &mut rng, stats));
     }
-    mean.finish(integrator.splits_components())
+    mean
+}
+
+/// Fixed-point scale of sample sums: a resolution of 2⁻⁴⁰ W·m⁻²·sr⁻¹ per sample; a pixel's sum
+/// saturates (never wraps) past 1.5·10²⁶.
+pub const SAMPLE_FIXED: f64 = (1u64 << 40) as f64;
+
+/// Components kept in fixed point: beauty, direct, caustic, indirect.
+const FIXED_COMPONENTS: usize = 4;
+
+/// `v` in fixed point, rounded half away from zero.
+#[inline]
+fn to_fixed(v: f32) -> i128 {
+    let x = f64::from(v) * SAMPLE_FIXED;
+    let r = x + 0.5f64.copysign(x);
+    // The common case in one hardware conversion; `as` saturates beyond i64 and i128.
+    if r.abs() < 9.0e18 {
+        i128::from(r as i64)
+    } else {
+        r as i128
+    }
+}
+
+/// The mean of `count` samples whose fixed-point sum is `sum`: the one formula that both a
+/// render and a merge of partial renders use, so that they agree bit for bit.
+fn mean_of(sum: &[i128; 3], count: u32) -> Rgb {
+    if count == 0 {
+        Rgb::ZERO
+    } else {
+        Rgb::from_array(sum.map(|v| (v as f64 / SAMPLE_FIXED / f64::from(count)) as f32))
+    }
 }
 
 /// Running per-component means of a pixel's samples. A NaN or infinity must not poison the
 /// pixel, so a non-finite component of a sample is left out of that component's mean (and
 /// not counted in it, which would darken the pixel), while the sample's other components,
-/// say its direct light when a photon estimate overflowed, are kept.
+/// say its direct light when a photon estimate overflowed, are kept. The light components are
+/// summed in fixed point (see the module's note); the albedo and normal AOVs in floats.
 #[derive(Default)]
 struct PixelMean {
-    sums: [Rgb; 6],
+    fixed: [[i128; 3]; FIXED_COMPONENTS],
+    floats: [Rgb; 2],
     counts: [u32; 6],
 }
 
@@ -196,23 +270,31 @@ impl PixelMean {
         let parts = [
             l.beauty, l.direct, l.caustic, l.indirect, l.albedo, l.normal,
         ];
-        for ((sum, count), v) in self.sums.iter_mut().zip(&mut self.counts).zip(parts) {
-            if v.is_finite() {
-                *sum += v;
-                *count += 1;
+        for (j, v) in parts.into_iter().enumerate() {
+            if !v.is_finite() {
+                continue;
+            }
+            self.counts[j] += 1;
+            if j < FIXED_COMPONENTS {
+                if v != Rgb::ZERO {
+                    for (sum, c) in self.fixed[j].iter_mut().zip(v.to_array()) {
+                        *sum = sum.saturating_add(to_fixed(c));
+                    }
+                }
+            } else {
+                self.floats[j - FIXED_COMPONENTS] += v;
             }
         }
     }
 
     fn finish(&self, splits_components: bool) -> Sample {
-        let mean = |j: usize| {
-            if self.counts[j] == 0 {
-                Rgb::ZERO
-            } else {
-                self.sums[j] / self.counts[j] as f32
-            }
-        };
+        let mean = |j: usize| mean_of(&self.fixed[j], self.counts[j]);
         let (direct, caustic, indirect) = (mean(1), mean(2), mean(3));
+        let albedo = if self.counts[4] == 0 {
+            Rgb::ZERO
+        } else {
+            self.floats[0] / self.counts[4] as f32
+        };
         Sample {
             // Keep direct + caustic + indirect = beauty when a component was dropped.
             beauty: if splits_components {
@@ -223,8 +305,95 @@ impl PixelMean {
             direct,
             caustic,
             indirect,
-            albedo: mean(4),
-            normal: self.sums[5].normalize_or_zero(),
+            albedo,
+            normal: self.floats[1].normalize_or_zero(),
         }
+    }
+}
+
+/// The fixed-point sums of a render's light per pixel: of the beauty alone, or of the
+/// direct, caustic and indirect parts for an integrator that splits them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SampleSums {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel of the whole render.
+    pub spp: u32,
+    /// How many of each pixel's `spp` samples these sums hold.
+    pub samples: u32,
+    /// The beauty is the sum of the direct, caustic and indirect means.
+    pub splits_components: bool,
+    /// Per pixel (row-major), per component: the sum and the count of finite samples.
+    pub sums: Vec<([i128; 3], u32)>,
+}
+
+impl SampleSums {
+    fn new(settings: &RenderSettings, range: Range<u32>, splits_components: bool) -> Self {
+        let pixels = settings.width as usize * settings.height as usize;
+        Self {
+            width: settings.width,
+            height: settings.height,
+            spp: settings.spp,
+            samples: range.end - range.start,
+            splits_components,
+            sums: vec![([0; 3], 0); pixels * Self::components_of(splits_components)],
+        }
+    }
+
+    fn components_of(splits_components: bool) -> usize {
+        if splits_components { 4 } else { 1 }
+    }
+
+    /// Light components kept per pixel.
+    pub fn components(&self) -> usize {
+        Self::components_of(self.splits_components)
+    }
+
+    fn set(&mut self, x: u32, y: u32, mean: &PixelMean) {
+        let n = self.components();
+        let at = (y as usize * self.width as usize + x as usize) * n;
+        for (j, slot) in self.sums[at..at + n].iter_mut().enumerate() {
+            *slot = (mean.fixed[j], mean.counts[j]);
+        }
+    }
+
+    /// Add the sums of another part of the same render.
+    pub fn add(&mut self, other: &SampleSums) -> Result<()> {
+        if (self.width, self.height, self.spp, self.splits_components)
+            != (
+                other.width,
+                other.height,
+                other.spp,
+                other.splits_components,
+            )
+            || self.sums.len() != other.sums.len()
+        {
+            return Err(Error::InvalidSetting(
+                "the partial renders differ in resolution, samples per pixel or integrator".into(),
+            ));
+        }
+        for (a, b) in self.sums.iter_mut().zip(&other.sums) {
+            for k in 0..3 {
+                a.0[k] = a.0[k].saturating_add(b.0[k]);
+            }
+            a.1 = a.1.saturating_add(b.1);
+        }
+        self.samples = self.samples.saturating_add(other.samples);
+        Ok(())
+    }
+
+    /// The beauty image of the samples summed so far.
+    pub fn image(&self) -> Image {
+        let mut image = Image::new(self.width, self.height);
+        let n = self.components();
+        for (pixel, px) in image.pixels.iter_mut().zip(self.sums.chunks_exact(n)) {
+            let mean = |j: usize| mean_of(&px[j].0, px[j].1);
+            *pixel = if self.splits_components {
+                mean(1) + mean(2) + mean(3)
+            } else {
+                mean(0)
+            };
+        }
+        image
     }
 }

@@ -17,6 +17,8 @@ macro_rules! outln {
 }
 
 mod compare;
+mod job;
+mod job_submit;
 mod model;
 mod photons;
 mod progress;
@@ -54,6 +56,12 @@ enum Command {
     },
     /// Merge partial progressive renders (`--integrator ppm --pass-range a..b`) into one image.
     Merge(progressive::MergeArgs),
+    /// Render jobs for clusters: a job folder split into tasks (Slurm arrays, GNU parallel,
+    /// Kubernetes Indexed Jobs), merged bit for bit as the parts arrive.
+    Job {
+        #[command(subcommand)]
+        command: job::JobCommand,
+    },
     /// Write a procedural model (the plant pot) as OBJ or PLY.
     Model(model::ModelArgs),
     /// List the built-in scenes, or write one (or any scene file) as a TOML scene.
@@ -70,6 +78,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Photons { command } => photons::run(command),
         Command::Model(args) => model::run(&args),
         Command::Merge(args) => progressive::merge(&args),
+        Command::Job { command } => job::run(command),
         Command::Scenes(args) => scenes(&args),
         Command::Validate(args) => validate::run_suite(&args),
     }

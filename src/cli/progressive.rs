@@ -224,7 +224,8 @@ pub fn resume(
 
 #[derive(clap::Args)]
 pub struct MergeArgs {
-    /// Partial renders written with `--integrator ppm --pass-range a..b -o NAME.part`.
+    /// Partial renders: `--integrator ppm --pass-range a..b -o NAME.part`, or
+    /// `--sample-range a..b -o NAME.part` (path, direct, photon).
     #[arg(required = true)]
     parts: Vec<PathBuf>,
     /// The merged image (.exr, .pfm, .png).
@@ -232,21 +233,21 @@ pub struct MergeArgs {
     output: PathBuf,
 }
 
-/// `photon merge PART... -o OUT`.
+/// `photon merge PART... -o OUT`: one part in memory at a time.
 pub fn merge(a: &MergeArgs) -> Result<()> {
     photon::io::image::check_writable(&a.output)?;
-    let parts = a
-        .parts
-        .iter()
-        .map(|p| checkpoint::load(p))
-        .collect::<Result<Vec<_>, _>>()?;
-    let merged = ProgressiveState::merge(parts)?;
-    write_image(&merged.image(), &a.output, 0.0)?;
+    let mut merger = photon::job::Merger::default();
+    for p in &a.parts {
+        merger
+            .add(photon::job::load_part(p)?)
+            .with_context(|| format!("merging '{}'", p.display()))?;
+    }
+    let image = merger.image().context("nothing to merge")?;
+    write_image(&image, &a.output, 0.0)?;
     eprintln!(
-        "photon: merged passes {}..{} of {} → {}",
-        merged.first_pass,
-        merged.next_pass(),
-        merged.scene_name,
+        "photon: merged {} parts ({} passes or samples per pixel) → {}",
+        a.parts.len(),
+        merger.units(),
         a.output.display()
     );
     Ok(())

@@ -1,7 +1,7 @@
 //! `photon render`.
 
 use super::{progress, progressive};
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use photon::description::RenderSpec;
 use photon::description::builtin::DEFAULT_SCENE;
@@ -9,9 +9,10 @@ use photon::film::PixelFilter;
 use photon::integrator::{DirectConfig, Integrator, PathConfig, PhotonIntegrator, PhotonSettings};
 use photon::io::image::{ImageFormat, aov_path, check_writable, write_exr_layers, write_image};
 use photon::io::phm;
+use photon::io::sample_part::PartOrigin as SampleOrigin;
 use photon::photon::{Kernel, PhotonConfig, PhotonMaps, trace_photons};
 use photon::progressive::{Method, ProgressiveConfig, ProgressiveState};
-use photon::render::{RenderOutput, RenderSettings, render};
+use photon::render::{RenderOutput, RenderSettings, render_samples};
 use photon::scene::Scene;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -185,6 +186,10 @@ pub struct RenderArgs {
     /// ppm: render only passes a..b (end exclusive) into a partial file for `photon merge`.
     #[arg(long, value_parser = parse_range)]
     pass_range: Option<(u64, u64)>,
+    /// path, direct, photon: render only samples a..b (end exclusive) of each pixel's --spp
+    /// into a partial file (.part) for `photon merge`.
+    #[arg(long, value_parser = parse_range)]
+    sample_range: Option<(u64, u64)>,
     #[command(flatten)]
     env: super::EnvironmentArgs,
     /// No progress bar.
@@ -325,6 +330,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     }
     if matches!(a.integrator(), IntegratorName::Sppm | IntegratorName::Ppm) {
+        if a.sample_range.is_some() {
+            bail!(
+                "--sample-range is for --integrator path, direct or photon (ppm has --pass-range)"
+            );
+        }
         return run_progressive(&a, &scene, budget);
     }
     let progressive_only = [
@@ -340,11 +350,26 @@ pub fn run(a: RenderArgs) -> Result<()> {
         // Accepted and ignored, it let a user believe a checkpoint was being written.
         bail!("{flag} is for --integrator sppm or ppm");
     }
+    let partial = a.sample_range.is_some();
     let output = a
         .output
         .clone()
-        .unwrap_or_else(|| PathBuf::from("render.png"));
-    let format = check_writable(&output)?;
+        .unwrap_or_else(|| PathBuf::from(if partial { "render.part" } else { "render.png" }));
+    let format = if partial {
+        if output.extension().and_then(|e| e.to_str()) != Some("part") {
+            bail!(
+                "'{}': a partial render is written to a .part file",
+                output.display()
+            );
+        }
+        if !a.aov.is_empty() {
+            bail!("--aov cannot be split: a partial render holds the beauty image only");
+        }
+        photon::io::image::check_writable_path(&output)?;
+        None
+    } else {
+        Some(check_writable(&output)?)
+    };
     if a.light_samples() == 0 {
         bail!("--light-samples must be at least 1");
     }
@@ -386,6 +411,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
         filter: a.filter.unwrap_or(PixelFilter::Box),
     };
     settings.validate()?;
+    let samples = match a.sample_range {
+        None => 0..settings.spp,
+        Some((start, end)) if end <= u64::from(settings.spp) => start as u32..end as u32,
+        Some((start, end)) => bail!(
+            "--sample-range {start}..{end} goes past the {} samples per pixel (--spp)",
+            settings.spp
+        ),
+    };
     let pool = super::thread_pool(a.threads)?;
     let mut phases = Phases {
         load: load_seconds,
@@ -394,10 +427,29 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let integrator = pool.install(|| integrator(&a, &scene, &mut phases))?;
     let bar = progress::bar("rendering", a.quiet);
     let start = Instant::now();
-    let out = pool.install(|| render(&scene, &integrator, &settings, &progress::callback(&bar)))?;
+    let out = pool.install(|| {
+        render_samples(
+            &scene,
+            &integrator,
+            &settings,
+            samples.clone(),
+            &progress::callback(&bar),
+        )
+    })?;
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    write_outputs(&a, &output, format, &out)?;
+    match format {
+        Some(format) => write_outputs(&a, &output, format, &out)?,
+        None => {
+            let origin = SampleOrigin {
+                scene: scene.name.clone(),
+                scene_hash: format!("{:016x}", scene.content_hash()),
+                settings: sample_settings(&a, &settings),
+                first_sample: samples.start,
+            };
+            photon::io::sample_part::save(&out.sums, &origin, &output)?;
+        }
+    }
     let m = |x: u64| x as f64 / secs / 1e6;
     let photon_phases = if let Integrator::Photon(_) = integrator {
         format!("trace {:.2} s, build {:.2} s, ", phases.trace, phases.build)
@@ -423,6 +475,37 @@ pub fn run(a: RenderArgs) -> Result<()> {
         output.display()
     );
     Ok(())
+}
+
+/// Every setting that changes a sample of a path, direct or photon render, in one string:
+/// partial renders merge only when theirs are equal.
+fn sample_settings(a: &RenderArgs, s: &RenderSettings) -> String {
+    let name = a
+        .integrator()
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_owned());
+    format!(
+        "{name} {}x{} spp={} seed={} filter={:?} max_depth={:?} light_samples={} photons={:?} caustic_photons={:?} radius={:?} k={:?} kernel={:?} gather={:?} gather_rays={:?} indirect_scale={} per_channel={} absorption={:?}",
+        s.width,
+        s.height,
+        s.spp,
+        s.seed,
+        s.filter,
+        a.max_depth,
+        a.light_samples(),
+        a.photons,
+        a.caustic_photons,
+        a.radius,
+        a.k,
+        a.kernel
+            .and_then(|k| k.to_possible_value().map(|v| v.get_name().to_owned())),
+        a.gather
+            .and_then(|g| g.to_possible_value().map(|v| v.get_name().to_owned())),
+        a.gather_rays,
+        a.indirect_scale,
+        a.per_channel,
+        a.absorption,
+    )
 }
 
 fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -> Result<()> {
@@ -638,4 +721,130 @@ fn write_outputs(
         write_image(aov_image(x), &aov_path(output, x.name()), a.exposure)?;
     }
     Ok(())
+}
+
+/// A `photon render` command line on its own, as job manifests keep it.
+#[derive(clap::Parser)]
+#[command(name = "photon render", no_binary_name = true)]
+struct RenderCommand {
+    #[command(flatten)]
+    args: RenderArgs,
+}
+
+/// Parse `SCENE [FLAGS...]` as `photon render` would.
+fn parse_render(scene_and_flags: &[String]) -> Result<RenderArgs> {
+    use clap::Parser;
+    RenderCommand::try_parse_from(scene_and_flags)
+        .map(|c| c.args)
+        .map_err(|e| anyhow::anyhow!("{}", e.render().to_string().trim_end()))
+}
+
+/// How a render splits into the tasks of a job.
+pub struct JobPlan {
+    pub integrator: &'static str,
+    pub unit: photon::job::Unit,
+    pub total: u64,
+    pub scene: Scene,
+    /// Every file the scene read, absolute.
+    pub files: Vec<PathBuf>,
+}
+
+/// Check that the render `scene_and_flags` describes can be split into tasks, load its scene
+/// (recording the files it reads) and say what the tasks count.
+pub fn plan_job(scene_and_flags: &[String]) -> Result<JobPlan> {
+    let mut a = parse_render(scene_and_flags)?;
+    let per_run = [
+        (
+            a.output.is_some(),
+            "-o (the job folder holds the parts; `photon job merge` writes the image)",
+        ),
+        (
+            a.pass_range.is_some(),
+            "--pass-range (the job sets each task's)",
+        ),
+        (
+            a.sample_range.is_some(),
+            "--sample-range (the job sets each task's)",
+        ),
+        (a.checkpoint.is_some(), "--checkpoint"),
+        (a.resume.is_some(), "--resume"),
+        (a.snapshots, "--snapshots"),
+        (
+            a.time.is_some(),
+            "--time (a time budget is not the same work on every machine; give --passes or --spp)",
+        ),
+        (
+            !a.aov.is_empty(),
+            "--aov (parts hold the beauty image only)",
+        ),
+        (a.photon_map.is_some(), "--photon-map"),
+        (
+            a.threads.is_some(),
+            "--threads (give it to `photon job run`)",
+        ),
+    ];
+    if let Some((_, flag)) = per_run.iter().find(|(given, _)| *given) {
+        bail!("a job cannot take {flag}");
+    }
+    if let Some(env) = &a.env.env
+        && std::path::Path::new(env).exists()
+    {
+        bail!(
+            "a job cannot take --env FILE: put the sky in the scene file ([[lights]] type = \"environment\") so that the job carries it"
+        );
+    }
+    let (loaded, files) = photon::io::input::recording(|| super::scene_with(&a.scene, &a.env));
+    let (scene, spec, _) = loaded?;
+    a.apply_scene_settings(&spec)?;
+    let (integrator, unit, total) = match a.integrator() {
+        IntegratorName::Sppm => bail!(
+            "sppm cannot be split into tasks: each pass shrinks the radii the last one left, so passes depend on each other; use --integrator ppm, whose passes are independent"
+        ),
+        IntegratorName::Ppm => {
+            let passes = a
+                .passes
+                .context("give --passes: a ppm job splits its passes into tasks")?;
+            ("ppm", photon::job::Unit::Passes, passes)
+        }
+        other => {
+            let name = match other {
+                IntegratorName::Path => "path",
+                IntegratorName::Direct => "direct",
+                _ => "photon",
+            };
+            let spp = a.spp.unwrap_or(match other {
+                IntegratorName::Path => 64,
+                IntegratorName::Direct => 16,
+                _ => 8,
+            });
+            (name, photon::job::Unit::Samples, u64::from(spp))
+        }
+    };
+    Ok(JobPlan {
+        integrator,
+        unit,
+        total,
+        scene,
+        files,
+    })
+}
+
+/// Render one task of a job: the job's render command line, restricted to `range` of its
+/// passes or samples, into the part file `output`.
+pub fn render_task(
+    scene_and_flags: &[String],
+    unit: photon::job::Unit,
+    range: (u64, u64),
+    output: PathBuf,
+    threads: Option<usize>,
+) -> Result<()> {
+    let mut a = parse_render(scene_and_flags)?;
+    match unit {
+        photon::job::Unit::Passes => a.pass_range = Some(range),
+        photon::job::Unit::Samples => a.sample_range = Some(range),
+    }
+    a.output = Some(output);
+    a.quiet = true;
+    a.threads = threads;
+    run(a)
 }

@@ -6,7 +6,35 @@
 
 use crate::error::{Error, Result};
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The files checked or read while [`recording`] runs, from any thread.
+static RECORDED: Mutex<Option<Vec<PathBuf>>> = Mutex::new(None);
+
+/// Run `f`, and return with its result every file it checked or read through this module, in
+/// order, absolute: what a scene needs, for a job folder that must hold all of it. While it
+/// runs, reads from every thread are recorded, so it is for one-shot commands.
+pub fn recording<R>(f: impl FnOnce() -> R) -> (R, Vec<PathBuf>) {
+    *RECORDED.lock().unwrap_or_else(|e| e.into_inner()) = Some(Vec::new());
+    let result = f();
+    let files = RECORDED
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .take()
+        .unwrap_or_default();
+    (result, files)
+}
+
+fn record(path: &Path) {
+    let mut recorded = RECORDED.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(files) = recorded.as_mut() {
+        let path = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
+        if !files.contains(&path) {
+            files.push(path);
+        }
+    }
+}
 
 /// Largest file read whole: 8 GiB (a 100 M-photon map is 2.4 GB).
 pub const MAX_FILE_BYTES: u64 = 8 << 30;
@@ -21,6 +49,7 @@ fn refuse(path: &Path, why: String) -> Error {
 /// That `path` names a regular file (after symbolic links) of at most `max` bytes, without
 /// opening it (opening a FIFO for reading blocks until someone writes to it).
 pub fn check_regular_file(path: &Path, max: u64) -> Result<()> {
+    record(path);
     let meta = std::fs::metadata(path).map_err(|source| Error::Read {
         path: path.to_owned(),
         source,

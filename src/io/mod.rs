@@ -7,4 +7,5 @@ pub mod input;
 pub mod mesh;
 pub mod phm;
 pub mod ply;
+pub mod sample_part;
 pub mod texture;

@@ -1,0 +1,126 @@
+//! Parts, and their merge: one part in memory at a time besides the sums, so merging is
+//! linear in the parts with memory independent of their number.
+
+use crate::error::{Error, Result};
+use crate::film::Image;
+use crate::io::sample_part::{self, PartOrigin};
+use crate::progressive::{Method, ProgressiveState};
+use crate::render::SampleSums;
+use std::path::Path;
+
+/// A partial render: PPM passes, or samples of each pixel.
+pub enum Part {
+    Passes(ProgressiveState),
+    Samples(SampleSums, PartOrigin),
+}
+
+impl Part {
+    /// The range `[start, end)` of passes or samples it holds.
+    pub fn range(&self) -> (u64, u64) {
+        match self {
+            Part::Passes(s) => (s.first_pass, s.first_pass + s.passes),
+            Part::Samples(s, o) => (
+                u64::from(o.first_sample),
+                u64::from(o.first_sample) + u64::from(s.samples),
+            ),
+        }
+    }
+}
+
+/// Read a `.part` file of either kind.
+pub fn load_part(path: &Path) -> Result<Part> {
+    let bytes = crate::io::input::read_file(path)?;
+    if sample_part::is_sample_part(&bytes) {
+        let (sums, origin) =
+            sample_part::decode(&bytes).map_err(|message| Error::BadCheckpoint {
+                path: path.to_owned(),
+                message,
+            })?;
+        return Ok(Part::Samples(sums, origin));
+    }
+    drop(bytes);
+    let state = crate::io::checkpoint::load(path)?;
+    if state.config.method != Method::Ppm {
+        return Err(Error::BadCheckpoint {
+            path: path.to_owned(),
+            message: "an sppm checkpoint is not a part: sppm passes depend on each other".into(),
+        });
+    }
+    Ok(Part::Passes(state))
+}
+
+/// Parts added one at a time. They must come from the same scene and settings, and their
+/// ranges must not overlap; they need not join (a merge of the parts present so far).
+#[derive(Default)]
+pub struct Merger {
+    sum: Option<Part>,
+    /// The ranges added, to refuse a part added twice.
+    ranges: Vec<(u64, u64)>,
+}
+
+impl Merger {
+    pub fn add(&mut self, part: Part) -> Result<()> {
+        let range = part.range();
+        if let Some(&(a, b)) = self
+            .ranges
+            .iter()
+            .find(|&&(a, b)| range.0 < b && a < range.1)
+        {
+            return Err(Error::InvalidSetting(format!(
+                "parts overlap: {}..{} and {a}..{b}",
+                range.0, range.1
+            )));
+        }
+        match (&mut self.sum, part) {
+            (None, part) => self.sum = Some(part),
+            (Some(Part::Passes(sum)), Part::Passes(p)) => {
+                if p.config != sum.config || p.scene_hash != sum.scene_hash {
+                    return Err(Error::InvalidSetting(
+                        "the parts differ in scene or settings".into(),
+                    ));
+                }
+                for (a, b) in sum.ppm.iter_mut().zip(&p.ppm) {
+                    for k in 0..3 {
+                        a[k] = a[k].saturating_add(b[k]);
+                    }
+                }
+                sum.passes += p.passes;
+                sum.first_pass = sum.first_pass.min(p.first_pass);
+            }
+            (Some(Part::Samples(sum, origin)), Part::Samples(s, o)) => {
+                if (&o.scene_hash, &o.settings) != (&origin.scene_hash, &origin.settings) {
+                    return Err(Error::InvalidSetting(
+                        "the parts differ in scene or settings".into(),
+                    ));
+                }
+                sum.add(&s)?;
+                origin.first_sample = origin.first_sample.min(o.first_sample);
+            }
+            _ => {
+                return Err(Error::InvalidSetting(
+                    "ppm parts and sample parts cannot be merged together".into(),
+                ));
+            }
+        }
+        self.ranges.push(range);
+        Ok(())
+    }
+
+    /// How many passes or samples per pixel the merged image holds.
+    pub fn units(&self) -> u64 {
+        self.ranges.iter().map(|(a, b)| b - a).sum()
+    }
+
+    /// The image of everything added; `None` before the first part.
+    pub fn image(&self) -> Option<Image> {
+        Some(match self.sum.as_ref()? {
+            Part::Passes(state) => state.image(),
+            Part::Samples(sums, _) => sums.image(),
+        })
+    }
+
+    /// The merged state, for a ppm merge saved as one part.
+    pub fn into_part(self) -> Option<Part> {
+        self.sum
+    }
+}
