@@ -380,15 +380,15 @@ fn merge(a: &MergeArgs) -> Result<()> {
     let mut merger = job::Merger::default();
     let mut missing = Vec::new();
     let start = std::time::Instant::now();
-    for i in 0..manifest.tasks.len() {
-        if !job::part_is_complete(&a.job, &manifest, i) {
-            missing.push(i);
-            continue;
+    for (i, &[start, end]) in manifest.tasks.iter().enumerate() {
+        // Each part is read once: a missing, damaged or short part is a missing task.
+        let path = job::part_path(&a.job, i);
+        match path.is_file().then(|| job::load_part(&path)) {
+            Some(Ok(part)) if part.range() == (start, end) => merger
+                .add(part)
+                .with_context(|| format!("merging task {i}"))?,
+            _ => missing.push(i),
         }
-        let part = job::load_part(&job::part_path(&a.job, i))?;
-        merger
-            .add(part)
-            .with_context(|| format!("merging task {i}"))?;
     }
     let image = merger
         .image()
