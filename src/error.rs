@@ -1,6 +1,7 @@
 //! Typed errors of the library. The binary turns them into messages and exit code 2.
 
-use std::path::PathBuf;
+use std::fmt;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -11,7 +12,7 @@ pub enum Error {
 
     /// A problem in a scene, mesh or texture file, located where the format allows.
     #[error("{0}")]
-    SceneFile(Box<crate::description::source::Diagnostic>),
+    SceneFile(Box<Diagnostic>),
 
     #[error("invalid scene: {0}")]
     InvalidScene(String),
@@ -63,3 +64,118 @@ pub enum Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// A problem in a file, with its location when the format has lines.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Diagnostic {
+    pub path: PathBuf,
+    /// 1-based line and column (in characters), when known.
+    pub line: Option<usize>,
+    pub column: Option<usize>,
+    pub message: String,
+    /// The source line and a caret line under the span, ready to print.
+    pub excerpt: Option<String>,
+}
+
+impl Diagnostic {
+    /// A problem with the file as a whole (missing, unreadable, wrong kind, binary data).
+    pub fn whole_file(path: &Path, message: impl Into<String>) -> Self {
+        Self {
+            path: path.to_owned(),
+            line: None,
+            column: None,
+            message: message.into(),
+            excerpt: None,
+        }
+    }
+
+    /// A problem at byte range `span` of the text `source` of file `path`.
+    pub fn at_span(
+        path: &Path,
+        source: &str,
+        span: std::ops::Range<usize>,
+        message: impl Into<String>,
+    ) -> Self {
+        let start = span.start.min(source.len());
+        let line_start = source[..start].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = source[start..]
+            .find('\n')
+            .map_or(source.len(), |i| start + i);
+        let line_text = source[line_start..line_end].trim_end_matches('\r');
+        let line = source[..start].matches('\n').count() + 1;
+        let column = source[line_start..start].chars().count() + 1;
+        let end = span.end.clamp(start, line_end.max(start));
+        let width = source[start..end].chars().count().max(1);
+        let number = line.to_string();
+        let pad = " ".repeat(number.len());
+        let excerpt = format!(
+            "{pad} |\n{number} | {line_text}\n{pad} | {}{}",
+            " ".repeat(column - 1),
+            "^".repeat(width)
+        );
+        Self {
+            path: path.to_owned(),
+            line: Some(line),
+            column: Some(column),
+            message: message.into(),
+            excerpt: Some(excerpt),
+        }
+    }
+
+    /// A problem at 1-based `line` and `column` (in characters) of `source`.
+    pub fn at_line_column(
+        path: &Path,
+        source: &str,
+        line: usize,
+        column: usize,
+        message: impl Into<String>,
+    ) -> Self {
+        let start: usize = source
+            .split_inclusive('\n')
+            .take(line.saturating_sub(1))
+            .map(str::len)
+            .sum();
+        let start = start.min(source.len());
+        let offset: usize = source[start..]
+            .chars()
+            .take(column.saturating_sub(1))
+            .map(char::len_utf8)
+            .sum();
+        let at = start + offset;
+        let end = source[at..]
+            .chars()
+            .next()
+            .map_or(at, |c| at + c.len_utf8());
+        Self::at_span(path, source, at..end, message)
+    }
+
+    /// A problem on 1-based line `line` of `source` (column 1, the whole line underlined).
+    pub fn at_line(path: &Path, source: &str, line: usize, message: impl Into<String>) -> Self {
+        let start: usize = source
+            .split_inclusive('\n')
+            .take(line.saturating_sub(1))
+            .map(str::len)
+            .sum();
+        let end = source[start.min(source.len())..]
+            .find('\n')
+            .map_or(source.len(), |i| start + i);
+        Self::at_span(path, source, start..end, message)
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.path.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+            if let Some(col) = self.column {
+                write!(f, ":{col}")?;
+            }
+        }
+        write!(f, ": {}", self.message)?;
+        if let Some(e) = &self.excerpt {
+            write!(f, "\n{e}")?;
+        }
+        Ok(())
+    }
+}

@@ -4,7 +4,7 @@
 mod common;
 
 use photon::description::build::build;
-use photon::description::mesh::load_mesh_file;
+use photon::description::load_mesh_file;
 use photon::description::{ColorSpec, EmissionSpec, MaterialSpec};
 use photon::material::Material;
 use photon::math::{Ray, Rgb, Vec2, Vec3};

@@ -123,3 +123,177 @@ fn files_are_opened_only_through_the_input_policy() {
         found.join("\n")
     );
 }
+
+/// The layers of ARCHITECTURE.md's diagram, bottom first: each line's module names (the
+/// first column), skipping the binary and continuation lines.
+fn layers(map: &str) -> Vec<Vec<String>> {
+    let block = map
+        .split("## Layers")
+        .nth(1)
+        .and_then(|s| s.split("```").nth(1))
+        .expect("a diagram under ## Layers");
+    let mut layers: Vec<Vec<String>> = block
+        .lines()
+        .filter(|l| l.starts_with(' ') && !l.starts_with("  "))
+        .map(|l| {
+            let names = l.trim().split("  ").next().unwrap_or("");
+            names.split_whitespace().map(str::to_owned).collect()
+        })
+        .filter(|names: &Vec<String>| names.first().is_some_and(|n| n != "main.rs"))
+        .collect();
+    layers.reverse();
+    layers
+}
+
+/// The code of a Rust file without its comments (a path in a doc comment is not a use).
+fn code_of(text: &str) -> String {
+    text.lines()
+        .map(|l| l.split("//").next().unwrap_or(""))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The names after each `prefix` in `code`: `crate::scene::X` gives `scene`.
+fn paths_after<'a>(code: &'a str, prefix: &str) -> Vec<&'a str> {
+    code.match_indices(prefix)
+        .filter(|(at, _)| {
+            // A whole path segment: not `my_crate::`.
+            !code[..*at]
+                .chars()
+                .next_back()
+                .is_some_and(|c| c.is_alphanumeric() || c == '_')
+        })
+        .map(|(at, _)| {
+            let rest = &code[at + prefix.len()..];
+            let end = rest
+                .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .unwrap_or(rest.len());
+            &rest[..end]
+        })
+        .filter(|name| !name.is_empty())
+        .collect()
+}
+
+/// Every use of a module by a library file, against the layer order ARCHITECTURE.md draws.
+fn layer_violations(root: &Path) -> Vec<String> {
+    let map = std::fs::read_to_string(root.join("ARCHITECTURE.md")).expect("ARCHITECTURE.md");
+    let layers = layers(&map);
+    let level = |module: &str| layers.iter().position(|l| l.iter().any(|m| m == module));
+    let mut files = Vec::new();
+    rust_files(&root.join("src"), &mut files);
+    let mut violations = Vec::new();
+    for f in files {
+        let rel = f.strip_prefix(root.join("src")).expect("under src");
+        let first = rel.iter().next().expect("a name").to_string_lossy();
+        if first == "main.rs" || first == "lib.rs" || first == "cli" {
+            continue;
+        }
+        let module = first.trim_end_matches(".rs").to_string();
+        let Some(own) = level(&module) else {
+            violations.push(format!(
+                "{}: module '{module}' is not in the diagram",
+                rel.display()
+            ));
+            continue;
+        };
+        let code = code_of(&std::fs::read_to_string(&f).expect("read"));
+        for used in paths_after(&code, "crate::") {
+            if used == module {
+                continue;
+            }
+            match level(used) {
+                Some(l) if l < own => {}
+                Some(_) => violations.push(format!(
+                    "{}: '{module}' uses '{used}', which is not below it",
+                    rel.display()
+                )),
+                None => violations.push(format!(
+                    "{}: uses 'crate::{used}', which is not in the diagram",
+                    rel.display()
+                )),
+            }
+        }
+        if module == "description" {
+            violations.extend(description_violations(rel, &code));
+        }
+    }
+    violations
+}
+
+/// Inside `description`: `builtin` > `build` > `gltf` > `mesh`, `toml_read`, `toml_write` >
+/// `source` (all may use the root's types).
+fn description_violations(rel: &Path, code: &str) -> Vec<String> {
+    let order = |m: &str| match m {
+        "source" => Some(0),
+        "mesh" | "toml_read" | "toml_write" => Some(1),
+        "gltf" => Some(2),
+        "build" => Some(3),
+        "builtin" => Some(4),
+        _ => None,
+    };
+    let parts: Vec<String> = rel
+        .iter()
+        .map(|p| p.to_string_lossy().trim_end_matches(".rs").to_owned())
+        .collect();
+    // description/X.rs or description/X/…: X; description/mod.rs is the facade.
+    let Some(own) = parts.get(1).filter(|p| *p != "mod") else {
+        return Vec::new();
+    };
+    let own_level = order(own).expect("a known part of description");
+    // `super::` names a sibling from description/X.rs and description/X/mod.rs.
+    let sibling_super = parts.len() == 2 || parts.get(2).is_some_and(|p| p == "mod");
+    let mut used = paths_after(code, "crate::description::");
+    if sibling_super {
+        used.extend(paths_after(code, "super::"));
+    }
+    used.into_iter()
+        .filter(|u| u != own)
+        .filter_map(|u| {
+            let l = order(u)?;
+            (l >= own_level).then(|| {
+                format!(
+                    "{}: description/{own} uses description/{u}, which is not below it",
+                    rel.display()
+                )
+            })
+        })
+        .collect()
+}
+
+#[test]
+fn modules_use_only_the_layers_below_them() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let violations = layer_violations(root);
+    assert!(
+        violations.is_empty(),
+        "imports against ARCHITECTURE.md's layers:\n{}",
+        violations.join("\n")
+    );
+}
+
+#[test]
+fn the_layer_check_sees_a_wrong_import() {
+    // The diagram is read as drawn: the binary and continuation lines are not layers.
+    let map =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))
+            .expect("ARCHITECTURE.md");
+    let layers = layers(&map);
+    assert_eq!(layers[0], ["math", "error"]);
+    assert!(
+        layers
+            .iter()
+            .all(|l| l.iter().all(|m| !m.contains('.') && !m.contains(',')))
+    );
+    let code = code_of(
+        "use crate::scene::Scene; // crate::render is only mentioned\nfn f() { my_crate::x(); crate::io::input::read_file(p); }",
+    );
+    assert_eq!(paths_after(&code, "crate::"), ["scene", "io"]);
+    assert_eq!(
+        description_violations(
+            Path::new("description/mesh/mod.rs"),
+            "use super::gltf::read_meshes;"
+        )
+        .len(),
+        1
+    );
+}

@@ -27,9 +27,30 @@ use std::f32::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
 
-/// Mesh files already read, by path: a file named twice (or read while importing a glTF
-/// scene) is parsed once.
-pub type MeshCache = HashMap<std::path::PathBuf, Arc<mesh::MeshFile>>;
+pub use super::mesh::MeshCache;
+
+/// Read a mesh file, choosing the reader by extension.
+pub fn load_mesh_file(path: &Path) -> Result<mesh::MeshFile> {
+    if !path.is_file() {
+        return Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
+            path,
+            "mesh file not found",
+        ))));
+    }
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("obj") => mesh::obj::read(path),
+        Some("ply") => mesh::ply::read(path),
+        Some("gltf" | "glb") => super::gltf::read_meshes(path),
+        _ => Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
+            path,
+            "unsupported mesh format; expected .obj, .ply, .gltf or .glb",
+        )))),
+    }
+}
 
 /// Build the scene a description describes, reading the files it names (relative to its
 /// `base_dir`).
@@ -428,7 +449,7 @@ fn add_mesh_file(
     let file = match ctx.cache.get(&path) {
         Some(f) => f.clone(),
         None => {
-            let f = Arc::new(mesh::load_mesh_file(&path)?);
+            let f = Arc::new(load_mesh_file(&path)?);
             ctx.cache.insert(path.clone(), f.clone());
             f
         }

@@ -15,6 +15,8 @@ pub mod source;
 pub mod toml_read;
 pub mod toml_write;
 
+pub use build::load_mesh_file;
+
 use crate::error::{Error, Result};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::{Scene, TriangleMesh};
@@ -388,7 +390,7 @@ pub struct Loaded {
     /// One message per kind of thing that was not imported.
     pub warnings: Vec<String>,
     /// Mesh files the loader already read (a glTF scene's own meshes), for [`build::build_with`].
-    pub meshes: build::MeshCache,
+    pub meshes: mesh::MeshCache,
 }
 
 /// Load a scene: a built-in name, or a `.toml`, `.gltf` or `.glb` file.
@@ -397,7 +399,7 @@ pub fn load(name_or_path: &str) -> Result<Loaded> {
         return Ok(Loaded {
             desc,
             warnings: Vec::new(),
-            meshes: build::MeshCache::new(),
+            meshes: mesh::MeshCache::new(),
         });
     }
     let path = Path::new(name_or_path);
@@ -409,7 +411,7 @@ pub fn load(name_or_path: &str) -> Result<Loaded> {
         Some("toml") => Ok(Loaded {
             desc: toml_read::read_file(path)?,
             warnings: Vec::new(),
-            meshes: build::MeshCache::new(),
+            meshes: mesh::MeshCache::new(),
         }),
         Some("gltf" | "glb") => gltf::import_scene(path),
         _ if path.exists() => Err(Error::SceneFile(Box::new(source::Diagnostic::whole_file(

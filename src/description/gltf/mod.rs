@@ -165,7 +165,7 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
     meshes.warnings.sort();
     meshes.warnings.dedup();
     let warnings = std::mem::take(&mut meshes.warnings);
-    let mut cache = super::build::MeshCache::new();
+    let mut cache = super::mesh::MeshCache::new();
     cache.insert(
         desc.base_dir.join(path.file_name().unwrap_or_default()),
         std::sync::Arc::new(meshes),

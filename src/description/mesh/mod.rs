@@ -1,8 +1,8 @@
 //! Mesh files: OBJ (with MTL), PLY, and the meshes of a glTF file, read into triangle meshes
 //! with the materials the file gives them.
 
-mod obj;
-mod ply;
+pub(super) mod obj;
+pub(super) mod ply;
 
 use super::source::Diagnostic;
 use super::{EmissionSpec, MaterialSpec};
@@ -44,28 +44,9 @@ impl MeshFile {
     }
 }
 
-/// Read a mesh file, choosing the reader by extension.
-pub fn load_mesh_file(path: &Path) -> Result<MeshFile> {
-    if !path.is_file() {
-        return Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
-            path,
-            "mesh file not found",
-        ))));
-    }
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("obj") => obj::read(path),
-        Some("ply") => ply::read(path),
-        Some("gltf" | "glb") => super::gltf::read_meshes(path),
-        _ => Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
-            path,
-            "unsupported mesh format; expected .obj, .ply, .gltf or .glb",
-        )))),
-    }
-}
+/// Mesh files already read, by path: a file named twice (or read while importing a glTF
+/// scene) is parsed once.
+pub type MeshCache = std::collections::HashMap<std::path::PathBuf, std::sync::Arc<MeshFile>>;
 
 /// Split a polygon into a triangle fan (exact for the convex polygons files hold).
 pub(crate) fn fan(polygon: &[u32], out: &mut Vec<[u32; 3]>) {
