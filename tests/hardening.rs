@@ -637,7 +637,7 @@ fn fuzzing_regressions_stay_fixed() {
                         std::fs::write(dir.join("f.ply"), rest).expect("write");
                         dir.join("f.ply")
                     };
-                    let _ = photon::description::mesh::load_mesh_file(&file);
+                    let _ = photon::description::load_mesh_file(&file);
                 }
                 _ => {
                     std::fs::write(dir.join("f.glb"), &data).expect("write");

@@ -5,7 +5,7 @@
 mod common;
 
 use photon::description::build::build;
-use photon::description::mesh::load_mesh_file;
+use photon::description::load_mesh_file;
 use photon::description::toml_read::read_str;
 use photon::sampling::Rng;
 use std::panic::{AssertUnwindSafe, catch_unwind};

@@ -23,5 +23,5 @@ fuzz_target!(|data: &[u8]| {
         let _ = std::fs::write(&p, rest);
         p
     };
-    let _ = photon::description::mesh::load_mesh_file(&path);
+    let _ = photon::description::load_mesh_file(&path);
 });
