@@ -22,6 +22,10 @@ pub enum Error {
     #[error("invalid scene: object {index} {message}")]
     InvalidObject { index: usize, message: String },
 
+    /// The caller's cancel flag stopped a render.
+    #[error("the render was cancelled")]
+    Cancelled,
+
     #[error("invalid setting: {0}")]
     InvalidSetting(String),
 

@@ -20,6 +20,7 @@ pub mod modeling;
 pub mod photon;
 pub mod progressive;
 pub mod render;
+pub mod render_job;
 pub mod sampling;
 pub mod scene;
 pub mod texture;

@@ -18,7 +18,7 @@ use crate::sampling::Rng;
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::ops::Range;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 const TILE: u32 = 16;
 
@@ -129,6 +129,19 @@ pub fn render_samples(
     range: Range<u32>,
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<RenderOutput> {
+    let never = AtomicBool::new(false);
+    render_samples_cancellable(scene, integrator, settings, range, progress, &never)
+}
+
+/// [`render_samples`], stopped by `cancel` between tiles (then `Error::Cancelled`).
+pub fn render_samples_cancellable(
+    scene: &Scene,
+    integrator: &Integrator,
+    settings: &RenderSettings,
+    range: Range<u32>,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    cancel: &AtomicBool,
+) -> Result<RenderOutput> {
     settings.validate()?;
     if range.is_empty() || range.end > settings.spp {
         return Err(Error::InvalidSetting(format!(
@@ -147,6 +160,9 @@ pub fn render_samples(
         .map(|t| {
             let (tx, ty) = (t % tiles_x, t / tiles_x);
             let mut stats = RayStats::default();
+            if cancel.load(Ordering::Relaxed) {
+                return (Vec::new(), stats);
+            }
             let mut out = Vec::with_capacity((TILE * TILE) as usize);
             for y in ty * TILE..((ty + 1) * TILE).min(settings.height) {
                 for x in tx * TILE..((tx + 1) * TILE).min(settings.width) {
@@ -166,6 +182,9 @@ pub fn render_samples(
             (out, stats)
         })
         .collect();
+    if cancel.load(Ordering::Relaxed) {
+        return Err(Error::Cancelled);
+    }
     let blank = Image::new(settings.width, settings.height);
     let mut image = blank.clone();
     let mut aovs = Aovs {

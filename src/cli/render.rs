@@ -3,25 +3,21 @@
 use super::{progress, progressive};
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
-use photon::description::RenderSpec;
 use photon::description::builtin::DEFAULT_SCENE;
 use photon::film::PixelFilter;
-use photon::integrator::{DirectConfig, Integrator, PathConfig, PhotonIntegrator, PhotonSettings};
 use photon::io::image::{ImageFormat, aov_path, check_writable, write_exr_layers, write_image};
 use photon::io::phm;
 use photon::io::sample_part::PartOrigin as SampleOrigin;
-use photon::photon::{Kernel, PhotonConfig, PhotonMaps, trace_photons};
-use photon::progressive::{Method, ProgressiveConfig, ProgressiveState};
-use photon::render::{RenderOutput, RenderSettings, render_samples};
+use photon::render::RenderOutput;
 use photon::scene::Scene;
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-/// Largest `--k`: the scene files' limit; each estimate keeps k + 1 candidates.
-const MAX_K: usize = 1 << 16;
-/// Largest `--indirect-scale` (a debugging knob; 1 is correct): larger overflowed to Inf.
-const MAX_INDIRECT_SCALE: f32 = 1e6;
+use photon::render_job::{
+    IntegratorKind, MAX_INDIRECT_SCALE, MAX_K, Phase, Progress, RenderJob, RenderOptions,
+};
 /// Largest `--exposure` magnitude in stops (2^±100 still fits an f32).
 const MAX_EXPOSURE: f32 = 100.0;
 
@@ -114,7 +110,7 @@ pub struct RenderArgs {
     /// Pixel filter: `box`, or `gaussian:SIGMA` (SIGMA in pixels; the original used 0.5)
     /// [default: box].
     #[arg(long, value_parser = parse_filter)]
-    filter: Option<PixelFilter>,
+    filter: Option<String>,
     /// Exposure in stops, applied to PNG output only.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
@@ -198,77 +194,51 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
-    fn integrator(&self) -> IntegratorName {
-        self.integrator.unwrap_or(IntegratorName::Photon)
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed.unwrap_or(0)
-    }
-
-    fn light_samples(&self) -> u32 {
-        self.light_samples.unwrap_or(4)
-    }
-
-    fn gather(&self) -> GatherMode {
-        self.gather.unwrap_or(GatherMode::Final)
-    }
-
-    /// Fill every setting not given on the command line from the scene file's [render] table.
-    fn apply_scene_settings(&mut self, r: &RenderSpec) -> Result<()> {
-        if self.integrator.is_none()
-            && let Some(name) = &r.integrator
-        {
-            self.integrator =
-                Some(IntegratorName::from_str(name, true).map_err(|_| {
-                    anyhow::anyhow!("the scene names an unknown integrator '{name}'")
-                })?);
+    /// The library's options: what was given here; the library fills in the scene's
+    /// `[render]` table and the defaults.
+    fn options(&self) -> RenderOptions {
+        let name = |v: Option<clap::builder::PossibleValue>| v.map(|v| v.get_name().to_owned());
+        RenderOptions {
+            integrator: self.integrator.map(|i| match i {
+                IntegratorName::Photon => IntegratorKind::Photon,
+                IntegratorName::Direct => IntegratorKind::Direct,
+                IntegratorName::Path => IntegratorKind::Path,
+                IntegratorName::Sppm => IntegratorKind::Sppm,
+                IntegratorName::Ppm => IntegratorKind::Ppm,
+            }),
+            spp: self.spp,
+            width: self.width,
+            height: self.height,
+            seed: self.seed,
+            max_depth: self.max_depth,
+            light_samples: self.light_samples,
+            filter: self.filter.clone(),
+            photons: self.photons,
+            caustic_photons: self.caustic_photons,
+            radius: self.radius,
+            k: self.k,
+            kernel: self.kernel.and_then(|k| name(k.to_possible_value())),
+            gather: self.gather.map(|g| match g {
+                GatherMode::Final => photon::render_job::GatherMode::Final,
+                GatherMode::None => photon::render_job::GatherMode::None,
+            }),
+            gather_rays: self.gather_rays,
+            indirect_scale: (self.indirect_scale != 1.0).then_some(self.indirect_scale),
+            per_channel: self.per_channel,
+            absorption: self.absorption,
+            passes: self.passes,
+            time: self.time,
+            photons_per_pass: self.photons_per_pass,
+            alpha: self.alpha,
+            sample_range: self.sample_range.map(|(a, b)| {
+                (
+                    u32::try_from(a).unwrap_or(u32::MAX),
+                    u32::try_from(b).unwrap_or(u32::MAX),
+                )
+            }),
+            pass_range: self.pass_range,
         }
-        if self.filter.is_none()
-            && let Some(f) = &r.filter
-        {
-            self.filter = Some(f.parse().map_err(|e: String| anyhow::anyhow!(e))?);
-        }
-        self.spp = self.spp.or(r.spp);
-        self.seed = self.seed.or(r.seed);
-        self.max_depth = self.max_depth.or(r.max_depth);
-        self.light_samples = self.light_samples.or(r.light_samples);
-        self.radius = self.radius.or(r.radius);
-        if matches!(
-            self.integrator(),
-            IntegratorName::Sppm | IntegratorName::Ppm
-        ) {
-            self.passes = self.passes.or(r.passes);
-            self.time = self.time.or(r.time);
-            self.alpha = self.alpha.or(r.alpha);
-            self.photons_per_pass = self.photons_per_pass.or(r.photons_per_pass);
-        }
-        // Photon-integrator settings apply only when that integrator runs, so that a scene
-        // written for photon mapping can still be rendered with --integrator path.
-        if self.integrator() == IntegratorName::Photon {
-            if self.kernel.is_none()
-                && let Some(k) = &r.kernel
-            {
-                self.kernel = Some(value_enum(k, "kernel")?);
-            }
-            if self.gather.is_none()
-                && let Some(g) = &r.gather
-            {
-                self.gather = Some(value_enum(g, "gather")?);
-            }
-            self.k = self.k.or(r.k.map(|k| k as usize));
-            self.photons = self.photons.or(r.photons);
-            self.caustic_photons = self.caustic_photons.or(r.caustic_photons);
-            self.gather_rays = self.gather_rays.or(r.gather_rays);
-        }
-        Ok(())
     }
-}
-
-/// A command-line enum value named in a scene file (already checked against the same list).
-fn value_enum<T: ValueEnum>(name: &str, what: &str) -> Result<T> {
-    T::from_str(name, true)
-        .map_err(|_| anyhow::anyhow!("the scene names an unknown {what} '{name}'"))
 }
 
 fn parse_range(s: &str) -> Result<(u64, u64), String> {
@@ -287,37 +257,68 @@ fn parse_range(s: &str) -> Result<(u64, u64), String> {
     Ok((a, b))
 }
 
-fn parse_filter(s: &str) -> Result<PixelFilter, String> {
-    s.parse()
+/// A pixel filter, checked here and kept as written for the library.
+fn parse_filter(s: &str) -> Result<String, String> {
+    s.parse::<PixelFilter>().map(|_| s.to_owned())
 }
 
-/// Time spent in each phase, for the summary line.
-#[derive(Default)]
-struct Phases {
-    load: f64,
-    trace: f64,
-    build: f64,
-}
-
-pub fn run(a: RenderArgs) -> Result<()> {
-    let budget = progressive::Budget {
-        passes: a.passes,
-        seconds: a.time,
-    };
+/// Checks of flags that only the command line has, or whose messages should name the flag.
+fn check_flags(a: &RenderArgs) -> Result<()> {
+    if !(-MAX_EXPOSURE..=MAX_EXPOSURE).contains(&a.exposure) {
+        bail!(
+            "--exposure {} must be between -{MAX_EXPOSURE} and {MAX_EXPOSURE} stops",
+            a.exposure
+        );
+    }
+    if !(0.0..=MAX_INDIRECT_SCALE).contains(&a.indirect_scale) {
+        bail!(
+            "--indirect-scale {} must be between 0 and {MAX_INDIRECT_SCALE} (1 is physically correct)",
+            a.indirect_scale
+        );
+    }
+    if let Some(k) = a.k
+        && k > MAX_K
+    {
+        bail!("--k {k}: at most {MAX_K} photons per estimate (as in scene files)");
+    }
     if let Some(s) = a.time
         && !(s > 0.0 && s.is_finite())
     {
         bail!("--time {s} must be a positive number of seconds");
     }
+    if let Some(r) = a.radius
+        && !(r > 0.0 && r.is_finite())
+    {
+        bail!("--radius {r} must be a positive length");
+    }
+    if a.gather_rays == Some(0) && a.gather != Some(GatherMode::None) {
+        bail!("--gather-rays must be at least 1 (or use --gather none)");
+    }
+    Ok(())
+}
+
+pub fn run(a: RenderArgs) -> Result<()> {
+    check_flags(&a)?;
+    let budget = progressive::Budget {
+        passes: a.passes,
+        seconds: a.time,
+    };
     if let Some(cp) = &a.resume {
         let pool = super::thread_pool(a.threads)?;
         return progressive::resume(cp, budget, a.output.as_deref(), a.exposure, a.quiet, &pool);
     }
     let (scene, spec, load_seconds) = super::scene_with(&a.scene, &a.env)?;
-    let mut a = a;
-    a.apply_scene_settings(&spec)?;
-    let a = a;
-    if a.integrator() != IntegratorName::Photon {
+    let mut resolved = a.options();
+    resolved.apply_scene_settings(&spec)?;
+    let kind = resolved.integrator.unwrap_or(IntegratorKind::Photon);
+    if kind.is_progressive()
+        && resolved.passes.is_none()
+        && resolved.time.is_none()
+        && a.pass_range.is_none()
+    {
+        bail!("give --passes or --time for a progressive render");
+    }
+    if kind != IntegratorKind::Photon {
         let photon_only = [
             (a.photon_map.is_some(), "--photon-map"),
             (a.per_channel, "--per-channel"),
@@ -329,13 +330,20 @@ pub fn run(a: RenderArgs) -> Result<()> {
             bail!("{flag} is for --integrator photon");
         }
     }
-    if matches!(a.integrator(), IntegratorName::Sppm | IntegratorName::Ppm) {
+    if kind.is_progressive() {
         if a.sample_range.is_some() {
             bail!(
                 "--sample-range is for --integrator path, direct or photon (ppm has --pass-range)"
             );
         }
-        return run_progressive(&a, &scene, budget);
+        if !a.aov.is_empty() {
+            bail!("--aov is for --integrator photon");
+        }
+        if a.pass_range.is_some() && kind != IntegratorKind::Ppm {
+            bail!("--pass-range needs --integrator ppm (sppm passes depend on each other)");
+        }
+        let job = RenderJob::new(&scene, &spec, a.options())?;
+        return run_progressive(&a, &scene, &job);
     }
     let progressive_only = [
         (a.pass_range.is_some(), "--pass-range"),
@@ -370,89 +378,75 @@ pub fn run(a: RenderArgs) -> Result<()> {
     } else {
         Some(check_writable(&output)?)
     };
-    if a.light_samples() == 0 {
-        bail!("--light-samples must be at least 1");
-    }
-    if !(0.0..=MAX_INDIRECT_SCALE).contains(&a.indirect_scale) {
-        bail!(
-            "--indirect-scale {} must be between 0 and {MAX_INDIRECT_SCALE} (1 is physically correct)",
-            a.indirect_scale
-        );
-    }
-    if !(-MAX_EXPOSURE..=MAX_EXPOSURE).contains(&a.exposure) {
-        bail!(
-            "--exposure {} must be between -{MAX_EXPOSURE} and {MAX_EXPOSURE} stops",
-            a.exposure
-        );
-    }
-    if let Some(k) = a.k
-        && k > MAX_K
-    {
-        bail!("--k {k}: at most {MAX_K} photons per estimate (as in scene files)");
+    if let Some((_, end)) = a.sample_range {
+        let spp = a.spp.or(spec.spp).unwrap_or(kind.default_spp());
+        if end > u64::from(spp) {
+            bail!(
+                "--sample-range {}..{end} goes past the {spp} samples per pixel (--spp)",
+                a.sample_range.map_or(0, |r| r.0)
+            );
+        }
     }
     let component_aovs = a
         .aov
         .iter()
         .any(|x| matches!(x, Aov::Direct | Aov::Caustic | Aov::Indirect));
-    if component_aovs && a.integrator() != IntegratorName::Photon {
+    if component_aovs && kind != IntegratorKind::Photon {
         bail!("the direct, caustic and indirect AOVs need --integrator photon");
     }
-    let (default_w, default_h) = scene.default_resolution;
-    let settings = RenderSettings {
-        width: a.width.unwrap_or(default_w),
-        height: a.height.unwrap_or(default_h),
-        spp: a.spp.unwrap_or(match a.integrator() {
-            IntegratorName::Photon => 8,
-            IntegratorName::Direct => 16,
-            IntegratorName::Path => 64,
-            IntegratorName::Sppm | IntegratorName::Ppm => 1,
-        }),
-        seed: a.seed(),
-        filter: a.filter.unwrap_or(PixelFilter::Box),
-    };
-    settings.validate()?;
-    let samples = match a.sample_range {
-        None => 0..settings.spp,
-        Some((start, end)) if end <= u64::from(settings.spp) => start as u32..end as u32,
-        Some((start, end)) => bail!(
-            "--sample-range {start}..{end} goes past the {} samples per pixel (--spp)",
-            settings.spp
-        ),
-    };
+    if a.light_samples == Some(0) {
+        bail!("--light-samples must be at least 1");
+    }
+    let mut job = RenderJob::new(&scene, &spec, a.options())?;
+    if let Some(path) = &a.photon_map {
+        let start = Instant::now();
+        let maps = phm::load(path)?;
+        phm::check_scene(&maps, path, &scene.name, scene.content_hash(), a.force)?;
+        eprintln!(
+            "photon: read {} in {:.2} s",
+            path.display(),
+            start.elapsed().as_secs_f64()
+        );
+        job = job.with_photon_maps(Arc::new(maps));
+    }
+    let settings = job.settings();
     let pool = super::thread_pool(a.threads)?;
-    let mut phases = Phases {
-        load: load_seconds,
-        ..Phases::default()
+    let tracing = progress::bar("tracing photons", a.quiet || kind != IntegratorKind::Photon);
+    let rendering = progress::bar("rendering", a.quiet);
+    let report = |p: Progress| {
+        let bar = if p.phase == Phase::Tracing {
+            &tracing
+        } else {
+            &rendering
+        };
+        bar.set_length(p.total);
+        bar.set_position(p.done);
     };
-    let integrator = pool.install(|| integrator(&a, &scene, &mut phases))?;
-    let bar = progress::bar("rendering", a.quiet);
-    let start = Instant::now();
-    let out = pool.install(|| {
-        render_samples(
-            &scene,
-            &integrator,
-            &settings,
-            samples.clone(),
-            &progress::callback(&bar),
-        )
-    })?;
-    let secs = start.elapsed().as_secs_f64();
-    bar.finish_and_clear();
+    let never = AtomicBool::new(false);
+    let result = pool.install(|| job.render(&report, &never))?;
+    tracing.finish_and_clear();
+    rendering.finish_and_clear();
+    let out = result
+        .output
+        .as_ref()
+        .context("a sample render has an output")?;
     match format {
-        Some(format) => write_outputs(&a, &output, format, &out)?,
+        Some(format) => write_outputs(&a, &output, format, out)?,
         None => {
             let origin = SampleOrigin {
                 scene: scene.name.clone(),
                 scene_hash: format!("{:016x}", scene.content_hash()),
-                settings: sample_settings(&a, &settings),
-                first_sample: samples.start,
+                settings: job.sample_label(),
+                first_sample: a.sample_range.map_or(0, |r| r.0 as u32),
             };
             photon::io::sample_part::save(&out.sums, &origin, &output)?;
         }
     }
+    let t = result.timings;
+    let secs = t.render;
     let m = |x: u64| x as f64 / secs / 1e6;
-    let photon_phases = if let Integrator::Photon(_) = integrator {
-        format!("trace {:.2} s, build {:.2} s, ", phases.trace, phases.build)
+    let photon_phases = if kind == IntegratorKind::Photon {
+        format!("trace {:.2} s, build {:.2} s, ", t.trace, t.build)
     } else {
         String::new()
     };
@@ -462,11 +456,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
         settings.width,
         settings.height,
         settings.spp,
-        integrator.name(),
+        kind.name(),
         pool.current_num_threads(),
-        phases.load,
+        load_seconds,
         scene.primitive_count(),
-        phases.load + phases.trace + phases.build + secs,
+        load_seconds + t.trace + t.build + secs,
         m(out.samples),
         m(out.rays.total()),
         m(out.rays.camera),
@@ -477,70 +471,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// Every setting that changes a sample of a path, direct or photon render, in one string:
-/// partial renders merge only when theirs are equal.
-fn sample_settings(a: &RenderArgs, s: &RenderSettings) -> String {
-    let name = a
-        .integrator()
-        .to_possible_value()
-        .map_or_else(String::new, |v| v.get_name().to_owned());
-    format!(
-        "{name} {}x{} spp={} seed={} filter={:?} max_depth={:?} light_samples={} photons={:?} caustic_photons={:?} radius={:?} k={:?} kernel={:?} gather={:?} gather_rays={:?} indirect_scale={} per_channel={} absorption={:?}",
-        s.width,
-        s.height,
-        s.spp,
-        s.seed,
-        s.filter,
-        a.max_depth,
-        a.light_samples(),
-        a.photons,
-        a.caustic_photons,
-        a.radius,
-        a.k,
-        a.kernel
-            .and_then(|k| k.to_possible_value().map(|v| v.get_name().to_owned())),
-        a.gather
-            .and_then(|g| g.to_possible_value().map(|v| v.get_name().to_owned())),
-        a.gather_rays,
-        a.indirect_scale,
-        a.per_channel,
-        a.absorption,
-    )
-}
-
-fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -> Result<()> {
-    let method = match a.integrator() {
-        IntegratorName::Sppm => Method::Sppm,
-        _ => Method::Ppm,
-    };
-    if !a.aov.is_empty() {
-        bail!("--aov is for --integrator photon");
-    }
-    let (w, h) = scene.default_resolution;
-    let config = ProgressiveConfig {
-        method,
-        width: a.width.unwrap_or(w),
-        height: a.height.unwrap_or(h),
-        seed: a.seed(),
-        alpha: a.alpha.unwrap_or(2.0 / 3.0),
-        photons_per_pass: a.photons_per_pass.unwrap_or(100_000),
-        initial_radius: a.radius,
-        max_depth: a.max_depth.unwrap_or(16),
-        light_samples: a.light_samples(),
-    };
-    let (first, budget, partial) = match a.pass_range {
-        Some(_) if method != Method::Ppm => {
-            bail!("--pass-range needs --integrator ppm (sppm passes depend on each other)")
-        }
-        Some((start, end)) => (
-            start,
-            progressive::Budget {
-                passes: Some(end),
-                seconds: None,
-            },
-            true,
-        ),
-        None => (0, budget, false),
+fn run_progressive(a: &RenderArgs, scene: &Scene, job: &RenderJob) -> Result<()> {
+    let partial = a.pass_range.is_some();
+    let budget = progressive::Budget {
+        passes: job.target_passes(),
+        seconds: if partial { None } else { job.options().time },
     };
     let output = a
         .output
@@ -598,7 +533,7 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -
             checkpoint.display()
         );
     }
-    let state = ProgressiveState::new(scene, config, first)?;
+    let state = job.progressive_state()?;
     let pool = super::thread_pool(a.threads)?;
     let outputs = progressive::Outputs {
         checkpoint,
@@ -609,92 +544,6 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, budget: progressive::Budget) -
         partial,
     };
     progressive::run(scene, state, budget, &outputs, &pool)
-}
-
-fn integrator(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<Integrator> {
-    Ok(match a.integrator() {
-        IntegratorName::Direct => Integrator::Direct(DirectConfig {
-            max_depth: a.max_depth.unwrap_or(DirectConfig::default().max_depth),
-            light_samples: a.light_samples(),
-            ..DirectConfig::default()
-        }),
-        IntegratorName::Path => Integrator::Path(PathConfig {
-            max_depth: a.max_depth.unwrap_or(PathConfig::default().max_depth),
-            ..PathConfig::default()
-        }),
-        IntegratorName::Sppm | IntegratorName::Ppm => {
-            unreachable!("progressive integrators run apart")
-        }
-        IntegratorName::Photon => {
-            let maps = photon_maps(a, scene, phases)?;
-            let mut s = PhotonSettings::for_scene(scene);
-            if let Some(d) = a.max_depth {
-                s.max_depth = d;
-            }
-            s.light_samples = a.light_samples();
-            if let Some(r) = a.radius {
-                if !(r > 0.0 && r.is_finite()) {
-                    bail!("--radius {r} must be a positive length");
-                }
-                s.caustic.max_radius = r;
-                s.global.max_radius = r;
-                s.cache_radius = r;
-            }
-            if a.gather() == GatherMode::None {
-                s.global.k = PhotonSettings::DIRECT_VISUALISATION_K;
-            }
-            if let Some(k) = a.k {
-                s.caustic.k = k;
-                s.global.k = k;
-            }
-            let kernel = match a.kernel.unwrap_or(KernelName::Epanechnikov) {
-                KernelName::Box => Kernel::Box,
-                KernelName::Cone => Kernel::Cone,
-                KernelName::Gaussian => Kernel::Gaussian,
-                KernelName::Epanechnikov => Kernel::Epanechnikov,
-            };
-            s.caustic.kernel = kernel;
-            s.global.kernel = kernel;
-            s.gather_rays = match a.gather() {
-                GatherMode::None => 0,
-                GatherMode::Final => a.gather_rays.unwrap_or(s.gather_rays),
-            };
-            if a.gather() == GatherMode::Final && s.gather_rays == 0 {
-                bail!("--gather-rays must be at least 1 (or use --gather none)");
-            }
-            s.indirect_scale = a.indirect_scale;
-            let start = Instant::now();
-            let p = PhotonIntegrator::new(s, Arc::new(maps));
-            phases.build += start.elapsed().as_secs_f64();
-            Integrator::Photon(Box::new(p))
-        }
-    })
-}
-
-fn photon_maps(a: &RenderArgs, scene: &Scene, phases: &mut Phases) -> Result<PhotonMaps> {
-    let start = Instant::now();
-    if let Some(path) = &a.photon_map {
-        let maps = phm::load(path)?;
-        phm::check_scene(&maps, path, &scene.name, scene.content_hash(), a.force)?;
-        phases.build += start.elapsed().as_secs_f64();
-        return Ok(maps);
-    }
-    let global = a.photons.unwrap_or(250_000);
-    let caustic = a.caustic_photons.unwrap_or(2_000_000).max(global);
-    let config = PhotonConfig {
-        photons: caustic,
-        global_photons: Some(global),
-        absorption: a.absorption,
-        per_channel: a.per_channel,
-        seed: a.seed(),
-        ..PhotonConfig::default()
-    };
-    config.validate()?;
-    let bar = progress::bar("tracing photons", a.quiet);
-    let maps = trace_photons(scene, &config, &progress::callback(&bar))?;
-    bar.finish_and_clear();
-    phases.trace = start.elapsed().as_secs_f64();
-    Ok(maps)
 }
 
 fn write_outputs(
@@ -752,7 +601,7 @@ pub struct JobPlan {
 /// Check that the render `scene_and_flags` describes can be split into tasks, load its scene
 /// (recording the files it reads) and say what the tasks count.
 pub fn plan_job(scene_and_flags: &[String]) -> Result<JobPlan> {
-    let mut a = parse_render(scene_and_flags)?;
+    let a = parse_render(scene_and_flags)?;
     let per_run = [
         (
             a.output.is_some(),
@@ -795,31 +644,26 @@ pub fn plan_job(scene_and_flags: &[String]) -> Result<JobPlan> {
     }
     let (loaded, files) = photon::io::input::recording(|| super::scene_with(&a.scene, &a.env));
     let (scene, spec, _) = loaded?;
-    a.apply_scene_settings(&spec)?;
-    let (integrator, unit, total) = match a.integrator() {
-        IntegratorName::Sppm => bail!(
+    let mut options = a.options();
+    options.apply_scene_settings(&spec)?;
+    let kind = options.integrator.unwrap_or(IntegratorKind::Photon);
+    let (integrator, unit, total) = match kind {
+        IntegratorKind::Sppm => bail!(
             "sppm cannot be split into tasks: each pass shrinks the radii the last one left, so passes depend on each other; use --integrator ppm, whose passes are independent"
         ),
-        IntegratorName::Ppm => {
-            let passes = a
+        IntegratorKind::Ppm => {
+            let passes = options
                 .passes
                 .context("give --passes: a ppm job splits its passes into tasks")?;
             ("ppm", photon::job::Unit::Passes, passes)
         }
         other => {
-            let name = match other {
-                IntegratorName::Path => "path",
-                IntegratorName::Direct => "direct",
-                _ => "photon",
-            };
-            let spp = a.spp.unwrap_or(match other {
-                IntegratorName::Path => 64,
-                IntegratorName::Direct => 16,
-                _ => 8,
-            });
-            (name, photon::job::Unit::Samples, u64::from(spp))
+            let spp = options.spp.unwrap_or(other.default_spp());
+            (other.name(), photon::job::Unit::Samples, u64::from(spp))
         }
     };
+    // The whole render must be valid before it is split.
+    RenderJob::new(&scene, &spec, a.options())?;
     Ok(JobPlan {
         integrator,
         unit,
