@@ -571,7 +571,7 @@ impl<'s> RenderJob<'s> {
         let start = Instant::now();
         let mut photons = 0;
         let mut cancelled = false;
-        while !target.is_some_and(|t| state.next_pass() >= t)
+        while target.is_none_or(|t| state.next_pass() < t)
             && !self
                 .options
                 .time
