@@ -1,0 +1,302 @@
+"""Photon as a Blender render engine.
+
+Install the `photon` Python module into Blender's Python (see README.md, "Blender"), then
+install this folder as an add-on. Pick "Photon" as the render engine; F12 renders.
+
+How the Blender scene becomes a Photon scene:
+
+- geometry and materials go through Blender's own glTF exporter (modifiers applied,
+  transforms, Principled BSDF → glTF PBR: base colour, metallic, roughness, normal maps,
+  transmission, emission), which Photon's glTF importer reads;
+- the camera (perspective), point, spot, sun and area lights and the world colour are read
+  directly, in Photon's units: a point or area light of power P W emits P W (an area light
+  is one-sided and Lambertian, radiance P / (π·area)); a spot light has the intensity
+  P / 4π W/sr of the point light it is cut from; a sun's strength is its irradiance in W/m²;
+  the world colour × strength is a uniform sky of that radiance.
+
+Not mapped (say so in the render's report): world node trees beyond a Background colour,
+light textures and nodes, spot light shapes other than round, area shapes 'ELLIPSE' (a disk
+is used) and 'RECTANGLE' with unequal sides (a rectangle is used, both fine), volumes,
+hair, orthographic and panoramic cameras, depth of field, motion blur.
+"""
+
+bl_info = {
+    "name": "Photon",
+    "author": "Photon developers",
+    "version": (0, 1, 0),
+    "blender": (4, 2, 0),
+    "location": "Render Properties > Render Engine > Photon",
+    "description": "Photon: photon-mapping global illumination",
+    "category": "Render",
+}
+
+import math
+import os
+import tempfile
+
+import bpy
+import mathutils
+
+# Blender is z-up; glTF (and so the exported meshes) y-up: (x, y, z) → (x, z, −y).
+
+
+def y_up(v):
+    return (v[0], v[2], -v[1])
+
+
+def fmt(v):
+    return "[" + ", ".join(f"{float(x):.9g}" for x in v) + "]"
+
+
+class PhotonRenderSettings(bpy.types.PropertyGroup):
+    integrator: bpy.props.EnumProperty(
+        name="Integrator",
+        items=[
+            ("sppm", "SPPM", "Stochastic progressive photon mapping: converges, progressive"),
+            ("ppm", "PPM", "Probabilistic progressive photon mapping: independent passes"),
+            ("photon", "Photon mapping", "Two-pass photon mapping with final gathering"),
+            ("path", "Path tracing", "Unidirectional path tracing: the reference"),
+            ("direct", "Direct light", "Ray-traced direct light only"),
+        ],
+        default="sppm",
+    )
+    passes: bpy.props.IntProperty(name="Passes", default=32, min=1, max=1_000_000)
+    photons_per_pass: bpy.props.IntProperty(
+        name="Photons per Pass", default=100_000, min=1000, max=100_000_000
+    )
+    spp: bpy.props.IntProperty(name="Samples", default=16, min=1, max=65536)
+    photons: bpy.props.IntProperty(name="Photons", default=250_000, min=1000)
+    max_depth: bpy.props.IntProperty(name="Max Depth", default=16, min=1, max=1024)
+    seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
+    threads: bpy.props.IntProperty(name="Threads", default=0, min=0, max=256,
+                                   description="0: one per core")
+
+
+def camera_toml(scene):
+    cam = scene.camera
+    if cam is None or cam.data.type != "PERSP":
+        raise RuntimeError("Photon renders through a perspective camera; the scene has none")
+    m = cam.matrix_world
+    position = m.translation
+    forward = (m.to_3x3() @ mathutils.Vector((0.0, 0.0, -1.0))).normalized()
+    up = (m.to_3x3() @ mathutils.Vector((0.0, 1.0, 0.0))).normalized()
+    r = scene.render
+    w = int(r.resolution_x * r.resolution_percentage / 100)
+    h = int(r.resolution_y * r.resolution_percentage / 100)
+    aspect = (w * r.pixel_aspect_x) / (h * r.pixel_aspect_y)
+    fit = cam.data.sensor_fit
+    horizontal = fit == "HORIZONTAL" or (fit == "AUTO" and aspect >= 1.0)
+    if horizontal:
+        fov_y = 2.0 * math.atan(math.tan(cam.data.angle / 2.0) / aspect)
+    else:
+        fov_y = cam.data.angle
+    look_at = position + forward
+    return (
+        "[camera]\n"
+        f"position = {fmt(y_up(position))}\n"
+        f"look_at = {fmt(y_up(look_at))}\n"
+        f"up = {fmt(y_up(up))}\n"
+        f"fov = {math.degrees(fov_y):.9g}\n"
+        f"resolution = [{w}, {h}]\n"
+    ), (w, h)
+
+
+def lights_toml(depsgraph, report):
+
+    out = []
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        if obj.type != "LIGHT":
+            continue
+        light = obj.data
+        m = inst.matrix_world
+        pos = m.translation
+        axis = (m.to_3x3() @ mathutils.Vector((0.0, 0.0, -1.0))).normalized()
+        colour = [c * light.energy for c in light.color]
+        if light.type == "POINT":
+            out.append(f"[[lights]]\ntype = \"point\"\nposition = {fmt(y_up(pos))}\n"
+                       f"power = {fmt(colour)}\n")
+        elif light.type == "SPOT":
+            half = light.spot_size / 2.0
+            intensity = [c / (4.0 * math.pi) for c in colour]
+            out.append(
+                f"[[lights]]\ntype = \"spot\"\nposition = {fmt(y_up(pos))}\n"
+                f"look_at = {fmt(y_up(pos + axis))}\nintensity = {fmt(intensity)}\n"
+                f"angle = {math.degrees(half):.9g}\n"
+                f"falloff = {math.degrees(half * light.spot_blend):.9g}\n"
+            )
+        elif light.type == "SUN":
+            out.append(f"[[lights]]\ntype = \"directional\"\ndirection = {fmt(y_up(axis))}\n"
+                       f"irradiance = {fmt(colour)}\n")
+        elif light.type == "AREA":
+            sx = light.size * m.to_scale()[0]
+            sy = (light.size_y if light.shape in ("RECTANGLE", "ELLIPSE") else light.size)
+            sy *= m.to_scale()[1]
+            if light.shape in ("DISK", "ELLIPSE"):
+                if light.shape == "ELLIPSE":
+                    report("an elliptic area light is rendered as a disk")
+                out.append(
+                    f"[[lights]]\ntype = \"disk\"\ncenter = {fmt(y_up(pos))}\n"
+                    f"normal = {fmt(y_up(axis))}\nradius = {sx / 2.0:.9g}\n"
+                    f"power = {fmt(colour)}\n"
+                )
+            else:
+                r3 = m.to_3x3().normalized()
+                ex = r3 @ mathutils.Vector((sx / 2.0, 0.0, 0.0))
+                ey = r3 @ mathutils.Vector((0.0, sy / 2.0, 0.0))
+                # Counter-clockwise seen from the lit side (−z of the light).
+                corners = [pos - ex - ey, pos - ex + ey, pos + ex + ey, pos + ex - ey]
+                out.append(
+                    "[[lights]]\ntype = \"quad\"\nvertices = ["
+                    + ", ".join(fmt(y_up(c)) for c in corners)
+                    + f"]\npower = {fmt(colour)}\n"
+                )
+    return "\n".join(out)
+
+
+def world_toml(scene, report):
+    world = scene.world
+    if world is None:
+        return ""
+    colour, strength = world.color, 1.0
+    if world.use_nodes and world.node_tree is not None:
+        bg = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
+        if bg is None:
+            report("the world has no Background node: no sky")
+            return ""
+        if bg.inputs["Color"].is_linked:
+            report("a world texture is not mapped: its Background colour is used")
+        colour = bg.inputs["Color"].default_value[:3]
+        strength = bg.inputs["Strength"].default_value
+    radiance = [c * strength for c in colour[:3]]
+    if max(radiance) <= 0.0:
+        return ""
+    return f"[[lights]]\ntype = \"environment\"\nradiance = {fmt(radiance)}\n"
+
+
+def export_scene(depsgraph, directory, report=lambda m: None):
+    """Write the Photon scene of the evaluated `depsgraph` into `directory`; returns the
+    .toml path and the resolution."""
+    scene = depsgraph.scene
+    glb = os.path.join(directory, "meshes.glb")
+    has_meshes = any(i.object.type == "MESH" for i in depsgraph.object_instances)
+    if has_meshes:
+        bpy.ops.export_scene.gltf(
+            filepath=glb,
+            export_format="GLB",
+            export_apply=True,
+            export_cameras=False,
+            export_lights=False,
+            export_yup=True,
+            use_visible=True,
+        )
+    camera, size = camera_toml(scene)
+    parts = [f"name = \"{scene.name}\"\n", camera]
+    if has_meshes:
+        parts.append("[[shapes]]\ntype = \"mesh\"\nfile = \"meshes.glb\"\n")
+    parts.append(lights_toml(depsgraph, report))
+    parts.append(world_toml(scene, report))
+    path = os.path.join(directory, "scene.toml")
+    with open(path, "w") as f:
+        f.write("\n".join(p for p in parts if p))
+    return path, size
+
+
+def options(settings):
+    o = {"integrator": settings.integrator, "seed": settings.seed,
+         "max_depth": settings.max_depth}
+    if settings.integrator in ("sppm", "ppm"):
+        o.update(passes=settings.passes, photons_per_pass=settings.photons_per_pass)
+    else:
+        o["spp"] = settings.spp
+        if settings.integrator == "photon":
+            o["photons"] = settings.photons
+    return o
+
+
+class PhotonRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "PHOTON"
+    bl_label = "Photon"
+    bl_use_preview = False
+
+    def render(self, depsgraph):
+        import numpy as np
+        import photon
+
+        settings = depsgraph.scene.photon
+        with tempfile.TemporaryDirectory(prefix="photon-blender-") as tmp:
+            path, (w, h) = export_scene(
+                depsgraph, tmp, lambda m: self.report({"WARNING"}, m)
+            )
+            scene = photon.load_scene(path)
+            for warning in scene.warnings:
+                self.report({"WARNING"}, warning)
+        o = options(settings)
+        threads = settings.threads or None
+
+        def show(image):
+            # Blender's rows run bottom to top, as RGBA.
+            rgba = np.ones((h, w, 4), dtype=np.float32)
+            rgba[:, :, :3] = image[::-1]
+            result = self.begin_result(0, 0, w, h)
+            result.layers[0].passes["Combined"].rect = rgba.reshape(-1, 4)
+            self.end_result(result)
+
+        if settings.integrator in ("sppm", "ppm"):
+            image = None
+            for i, image in enumerate(photon.progressive(scene, threads=threads, **o)):
+                self.update_progress((i + 1) / settings.passes)
+                self.update_stats("", f"Photon: pass {i + 1}/{settings.passes}")
+                if self.test_break():
+                    break
+                if (i + 1) & i == 0 or i + 1 == settings.passes:
+                    show(image)
+            if image is not None:
+                show(image)
+        else:
+            self.update_stats("", "Photon: rendering")
+            image, _ = photon.render(scene, threads=threads, **o)
+            show(image)
+
+
+class RENDER_PT_photon(bpy.types.Panel):
+    bl_label = "Photon"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {"PHOTON"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+    def draw(self, context):
+        s = context.scene.photon
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(s, "integrator")
+        if s.integrator in ("sppm", "ppm"):
+            layout.prop(s, "passes")
+            layout.prop(s, "photons_per_pass")
+        else:
+            layout.prop(s, "spp")
+            if s.integrator == "photon":
+                layout.prop(s, "photons")
+        layout.prop(s, "max_depth")
+        layout.prop(s, "seed")
+        layout.prop(s, "threads")
+
+
+CLASSES = (PhotonRenderSettings, PhotonRenderEngine, RENDER_PT_photon)
+
+
+def register():
+    for c in CLASSES:
+        bpy.utils.register_class(c)
+    bpy.types.Scene.photon = bpy.props.PointerProperty(type=PhotonRenderSettings)
+
+
+def unregister():
+    del bpy.types.Scene.photon
+    for c in reversed(CLASSES):
+        bpy.utils.unregister_class(c)

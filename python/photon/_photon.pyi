@@ -1,0 +1,96 @@
+"""Type stubs of the compiled module (see photon/__init__.py for the overview)."""
+
+from os import PathLike
+from typing import Iterator, Literal, TypedDict
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class PhotonError(ValueError):
+    """A scene, setting or file Photon cannot use; the message names the file, line and
+    column where it can."""
+
+class Scene:
+    @property
+    def name(self) -> str: ...
+    @property
+    def resolution(self) -> tuple[int, int]: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    def to_toml(self, directory: str | PathLike[str] | None = None) -> str:
+        """The scene as a TOML scene file; relative paths are written against `directory`."""
+
+def load_scene(name_or_path: str | PathLike[str]) -> Scene:
+    """A built-in scene by name (see `photon scenes`), or a .toml, .gltf or .glb file."""
+
+Image = npt.NDArray[np.float32]
+
+def render(
+    scene: Scene,
+    *,
+    threads: int | None = None,
+    integrator: Literal["photon", "direct", "path", "sppm", "ppm"] | None = None,
+    spp: int | None = None,
+    width: int | None = None,
+    height: int | None = None,
+    seed: int | None = None,
+    max_depth: int | None = None,
+    light_samples: int | None = None,
+    filter: str | None = None,
+    photons: int | None = None,
+    caustic_photons: int | None = None,
+    radius: float | None = None,
+    k: int | None = None,
+    kernel: Literal["box", "cone", "gaussian", "epanechnikov"] | None = None,
+    gather: Literal["final", "none"] | None = None,
+    gather_rays: int | None = None,
+    indirect_scale: float | None = None,
+    per_channel: bool = False,
+    absorption: float | None = None,
+    passes: int | None = None,
+    time: float | None = None,
+    photons_per_pass: int | None = None,
+    alpha: float | None = None,
+    sample_range: tuple[int, int] | None = None,
+    pass_range: tuple[int, int] | None = None,
+) -> tuple[Image, dict[str, Image]]:
+    """Render as `photon render` would: (image (H, W, 3) float32 linear RGB, AOVs)."""
+
+class Progressive(Iterator[Image]):
+    @property
+    def passes(self) -> int: ...
+    def __iter__(self) -> Progressive: ...
+    def __next__(self) -> Image: ...
+
+def progressive(scene: Scene, *, threads: int | None = None, **options: object) -> Progressive:
+    """An sppm (default) or ppm render as an iterator of images, one after each pass; the
+    options are `render`'s (give `passes` or `time`)."""
+
+class PhotonArrays(TypedDict):
+    positions: npt.NDArray[np.float32]
+    directions: npt.NDArray[np.float32]
+    power: npt.NDArray[np.float32]
+    normals: npt.NDArray[np.float32]
+    depth: npt.NDArray[np.uint8]
+
+class PhotonMaps:
+    @property
+    def counts(self) -> tuple[int, int]:
+        """(global photons, caustic photons)."""
+    def arrays(self, kind: Literal["global", "caustic"] = "global") -> PhotonArrays: ...
+    def save(self, path: str | PathLike[str]) -> None:
+        """Write a .phm file (`photon render --photon-map` reads it)."""
+    def __len__(self) -> int: ...
+
+def trace_photons(
+    scene: Scene,
+    *,
+    photons: int = 250000,
+    caustic_photons: int | None = None,
+    seed: int = 0,
+    per_channel: bool = False,
+    threads: int | None = None,
+) -> PhotonMaps: ...
+def load_photons(path: str | PathLike[str]) -> PhotonMaps: ...

@@ -1,0 +1,429 @@
+//! `photon._photon`: the Python face of the Photon library. Every render goes through
+//! `photon::render_job::RenderJob`, the call the command line makes, so `photon.render` and
+//! `photon render` give the same image for the same settings, bit for bit.
+//!
+//! Rendering runs on a worker thread with the GIL released; the calling thread wakes every
+//! 50 ms to let Python handle signals, and a KeyboardInterrupt sets the render's cancel flag,
+//! waits for the worker to stop, and is raised.
+
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
+use photon::description::{Loaded, RenderSpec};
+use photon::film::Image;
+use photon::photon::{MapKind, PhotonConfig};
+use photon::progressive::ProgressiveState;
+use photon::render_job::{RenderJob, RenderOptions};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::Duration;
+
+pyo3::create_exception!(
+    _photon,
+    PhotonError,
+    PyValueError,
+    "A scene, setting or file Photon cannot use; the message names the file, line and column where it can."
+);
+
+fn to_py(e: photon::Error) -> PyErr {
+    PhotonError::new_err(e.to_string())
+}
+
+/// Run `work` on a worker thread with the GIL released, cancelling it on KeyboardInterrupt.
+fn run_cancellable<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&AtomicBool) -> photon::Result<T> + Send,
+) -> PyResult<T> {
+    let cancel = AtomicBool::new(false);
+    let finished = (Mutex::new(false), Condvar::new());
+    std::thread::scope(|s| {
+        let handle = s.spawn(|| {
+            let result = work(&cancel);
+            *finished.0.lock().unwrap_or_else(|e| e.into_inner()) = true;
+            finished.1.notify_all();
+            result
+        });
+        // Wake for signals every 50 ms, or as soon as the work ends.
+        let wait = || {
+            let done = finished.0.lock().unwrap_or_else(|e| e.into_inner());
+            let (done, _) = finished
+                .1
+                .wait_timeout_while(done, Duration::from_millis(50), |d| !*d)
+                .unwrap_or_else(|e| e.into_inner());
+            *done
+        };
+        while !py.detach(wait) {
+            if let Err(interrupt) = py.check_signals() {
+                cancel.store(true, Ordering::SeqCst);
+                let _ = py.detach(|| handle.join());
+                return Err(interrupt);
+            }
+        }
+        handle
+            .join()
+            .map_err(|_| PyRuntimeError::new_err("the render thread panicked"))?
+            .map_err(to_py)
+    })
+}
+
+fn pool(threads: Option<usize>) -> PyResult<rayon::ThreadPool> {
+    if threads.is_some_and(|t| t > 256) {
+        return Err(PhotonError::new_err("threads: at most 256"));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start worker threads: {e}")))
+}
+
+/// A Python value as JSON, for the options' serde names and types.
+fn to_json(v: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
+    use serde_json::Value;
+    if v.is_none() {
+        Ok(Value::Null)
+    } else if let Ok(b) = v.cast::<pyo3::types::PyBool>() {
+        Ok(Value::Bool(b.is_true()))
+    } else if let Ok(i) = v.extract::<i64>() {
+        Ok(Value::from(i))
+    } else if let Ok(f) = v.extract::<f64>() {
+        Ok(Value::from(f))
+    } else if let Ok(s) = v.extract::<String>() {
+        Ok(Value::String(s))
+    } else if let Ok(t) = v.cast::<PyTuple>() {
+        t.iter()
+            .map(|x| to_json(&x))
+            .collect::<PyResult<_>>()
+            .map(Value::Array)
+    } else if let Ok(l) = v.cast::<PyList>() {
+        l.iter()
+            .map(|x| to_json(&x))
+            .collect::<PyResult<_>>()
+            .map(Value::Array)
+    } else {
+        Err(PhotonError::new_err(format!(
+            "cannot use {} as a render option",
+            v.get_type().name()?
+        )))
+    }
+}
+
+/// Keyword arguments as render options (the names of `photon render`'s flags, with `_`).
+fn options(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<RenderOptions> {
+    let mut map = serde_json::Map::new();
+    if let Some(kw) = kwargs {
+        for (k, v) in kw.iter() {
+            map.insert(k.extract::<String>()?, to_json(&v)?);
+        }
+    }
+    serde_json::from_value(serde_json::Value::Object(map))
+        .map_err(|e| PhotonError::new_err(format!("render options: {e}")))
+}
+
+/// An image as a float32 array of shape (height, width, 3), linear RGB.
+fn image_array<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyAny>> {
+    let flat: Vec<f32> = image.pixels.iter().flat_map(|p| p.to_array()).collect();
+    let shape = [image.height as usize, image.width as usize, 3];
+    Ok(flat.into_pyarray(py).reshape(shape)?.into_any())
+}
+
+/// A scene, loaded from a built-in name, a .toml, .gltf or .glb file.
+#[pyclass(frozen, module = "photon")]
+struct Scene {
+    inner: Arc<photon::scene::Scene>,
+    spec: RenderSpec,
+    desc: photon::description::SceneDesc,
+    warnings: Vec<String>,
+}
+
+#[pymethods]
+impl Scene {
+    /// The scene's name (a file's absolute path, or the built-in's name).
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name.clone()
+    }
+
+    /// The resolution the scene asks for: (width, height).
+    #[getter]
+    fn resolution(&self) -> (u32, u32) {
+        self.inner.default_resolution
+    }
+
+    /// What the importer could not map (glTF), one message per kind.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.warnings.clone()
+    }
+
+    /// The scene as a TOML scene file; relative paths are written against `directory`.
+    #[pyo3(signature = (directory = None))]
+    fn to_toml(&self, directory: Option<PathBuf>) -> PyResult<String> {
+        let dir = directory.unwrap_or_else(|| PathBuf::from("."));
+        photon::description::toml_write::to_toml(&self.desc, &dir).map_err(to_py)
+    }
+
+    fn __repr__(&self) -> String {
+        let (w, h) = self.inner.default_resolution;
+        format!(
+            "<photon.Scene '{}' {w}×{h}, {} primitives>",
+            self.inner.name,
+            self.inner.primitive_count()
+        )
+    }
+}
+
+/// Load a scene: a built-in name (see `photon scenes`), or a .toml, .gltf or .glb file.
+#[pyfunction]
+fn load_scene(py: Python<'_>, name_or_path: PathBuf) -> PyResult<Scene> {
+    let name = name_or_path.to_string_lossy().into_owned();
+    let (scene, loaded): (photon::scene::Scene, Loaded) =
+        run_cancellable(py, |_| photon::description::load_scene(&name))?;
+    Ok(Scene {
+        inner: Arc::new(scene),
+        spec: loaded.desc.render.clone(),
+        desc: loaded.desc,
+        warnings: loaded.warnings,
+    })
+}
+
+/// Render `scene` as `photon render` would. Keyword options are `photon render`'s flags with
+/// `_` for `-`: integrator, spp, width, height, seed, max_depth, light_samples, filter,
+/// photons, caustic_photons, radius, k, kernel, gather, gather_rays, indirect_scale,
+/// per_channel, absorption, passes, time, photons_per_pass, alpha, sample_range, pass_range.
+/// Returns (image, aovs): a float32 array (height, width, 3) and a dict of AOV arrays
+/// (direct, caustic, indirect, albedo, normal; empty for sppm and ppm).
+#[pyfunction]
+#[pyo3(signature = (scene, *, threads = None, **kwargs))]
+fn render<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    threads: Option<usize>,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+    let options = options(kwargs)?;
+    let pool = pool(threads)?;
+    let inner = scene.inner.clone();
+    let spec = scene.spec.clone();
+    let result = run_cancellable(py, move |cancel| {
+        let job = RenderJob::new(&inner, &spec, options)?;
+        pool.install(|| job.render(&|_| {}, cancel))
+    })?;
+    let aovs = PyDict::new(py);
+    if let Some(out) = &result.output {
+        for (name, image) in [
+            ("direct", &out.aovs.direct),
+            ("caustic", &out.aovs.caustic),
+            ("indirect", &out.aovs.indirect),
+            ("albedo", &out.aovs.albedo),
+            ("normal", &out.aovs.normal),
+        ] {
+            aovs.set_item(name, image_array(py, image)?)?;
+        }
+    }
+    Ok((image_array(py, &result.image)?, aovs))
+}
+
+/// A progressive render (sppm or ppm) as an iterator of images, one after each pass.
+#[pyclass(module = "photon")]
+struct Progressive {
+    scene: Arc<photon::scene::Scene>,
+    state: Option<ProgressiveState>,
+    target: Option<u64>,
+    pool: Arc<rayon::ThreadPool>,
+}
+
+#[pymethods]
+impl Progressive {
+    fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    fn __next__<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(mut state) = self.state.take() else {
+            return Ok(None);
+        };
+        if self.target.is_some_and(|t| state.next_pass() >= t) {
+            return Ok(None);
+        }
+        let (scene, pool) = (self.scene.clone(), self.pool.clone());
+        let state = run_cancellable(py, move |_| {
+            pool.install(|| state.run_pass(&scene))?;
+            Ok(state)
+        })?;
+        let image = image_array(py, &state.image())?;
+        self.state = Some(state);
+        Ok(Some(image))
+    }
+
+    /// Passes done so far.
+    #[getter]
+    fn passes(&self) -> u64 {
+        self.state.as_ref().map_or(0, |s| s.passes)
+    }
+}
+
+/// `photon.progressive(scene, passes=64, integrator="sppm", ...)`: see the module.
+#[pyfunction]
+#[pyo3(signature = (scene, *, threads = None, **kwargs))]
+fn progressive(
+    py: Python<'_>,
+    scene: &Scene,
+    threads: Option<usize>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Progressive> {
+    let mut options = options(kwargs)?;
+    if options.integrator.is_none() {
+        options.integrator = Some(photon::render_job::IntegratorKind::Sppm);
+    }
+    let (inner, spec) = (scene.inner.clone(), scene.spec.clone());
+    let (state, target) = run_cancellable(py, move |_| {
+        let job = RenderJob::new(&inner, &spec, options)?;
+        if !job.integrator().is_progressive() {
+            return Err(photon::Error::InvalidSetting(format!(
+                "progressive renders are sppm or ppm, not {}",
+                job.integrator().name()
+            )));
+        }
+        Ok((job.progressive_state()?, job.target_passes()))
+    })?;
+    Ok(Progressive {
+        scene: scene.inner.clone(),
+        state: Some(state),
+        target,
+        pool: Arc::new(pool(threads)?),
+    })
+}
+
+/// Traced photon maps: `caustic` and `global` maps of photons with NumPy views.
+#[pyclass(frozen, module = "photon")]
+struct PhotonMaps {
+    inner: Arc<photon::photon::PhotonMaps>,
+}
+
+#[pymethods]
+impl PhotonMaps {
+    /// The photons of map `kind` ("global" or "caustic") as NumPy arrays: positions (N, 3)
+    /// float32, directions (N, 3) float32 (toward where the photon came from), power (N, 3)
+    /// float32 in watts, normals (N, 3) float32, depth (N,) uint8 (bounces before storing).
+    #[pyo3(signature = (kind = "global"))]
+    fn arrays<'py>(&self, py: Python<'py>, kind: &str) -> PyResult<Bound<'py, PyDict>> {
+        let kind = match kind {
+            "global" => MapKind::Global,
+            "caustic" => MapKind::Caustic,
+            other => {
+                return Err(PhotonError::new_err(format!(
+                    "map '{other}': expected 'global' or 'caustic'"
+                )));
+            }
+        };
+        let maps = self.inner.clone();
+        let (positions, directions, power, normals, depth) = py.detach(move || {
+            let map = maps.map(kind);
+            let photons = map.photons();
+            let n = photons.len();
+            let (mut pos, mut dir, mut pow, mut nor) = (
+                Vec::with_capacity(3 * n),
+                Vec::with_capacity(3 * n),
+                Vec::with_capacity(3 * n),
+                Vec::with_capacity(3 * n),
+            );
+            let mut depth = Vec::with_capacity(n);
+            for (i, p) in photons.iter().enumerate() {
+                pos.extend_from_slice(&p.position);
+                dir.extend_from_slice(&p.incoming().to_array());
+                pow.extend_from_slice(&map.power(i).to_array());
+                nor.extend_from_slice(&p.normal().to_array());
+                depth.push(p.depth);
+            }
+            (pos, dir, pow, nor, depth)
+        });
+        let n = depth.len();
+        let d = PyDict::new(py);
+        for (name, v) in [
+            ("positions", positions),
+            ("directions", directions),
+            ("power", power),
+            ("normals", normals),
+        ] {
+            d.set_item(name, v.into_pyarray(py).reshape([n, 3])?)?;
+        }
+        d.set_item("depth", PyArray1::from_vec(py, depth))?;
+        Ok(d)
+    }
+
+    /// Photons in each map: {"global": n, "caustic": n}.
+    fn __len__(&self) -> usize {
+        self.inner.global.len() + self.inner.caustic.len()
+    }
+
+    #[getter]
+    fn counts(&self) -> (usize, usize) {
+        (self.inner.global.len(), self.inner.caustic.len())
+    }
+
+    /// Save as a .phm file (what `photon render --photon-map` reads).
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let maps = self.inner.clone();
+        py.detach(move || photon::io::phm::save(&maps, &path))
+            .map_err(to_py)
+    }
+}
+
+/// Trace photon maps for `scene` as the photon integrator does: `photons` for the global map,
+/// `caustic_photons` (at least as many) for the caustic map.
+#[pyfunction]
+#[pyo3(signature = (scene, *, photons = 250_000, caustic_photons = None, seed = 0, per_channel = false, threads = None))]
+fn trace_photons(
+    py: Python<'_>,
+    scene: &Scene,
+    photons: u64,
+    caustic_photons: Option<u64>,
+    seed: u64,
+    per_channel: bool,
+    threads: Option<usize>,
+) -> PyResult<PhotonMaps> {
+    let config = PhotonConfig {
+        photons: caustic_photons.unwrap_or(photons).max(photons),
+        global_photons: Some(photons),
+        per_channel,
+        seed,
+        ..PhotonConfig::default()
+    };
+    let pool = pool(threads)?;
+    let inner = scene.inner.clone();
+    let maps = run_cancellable(py, move |_| {
+        config.validate()?;
+        pool.install(|| photon::photon::trace_photons(&inner, &config, &|_, _| {}))
+    })?;
+    Ok(PhotonMaps {
+        inner: Arc::new(maps),
+    })
+}
+
+/// Read a .phm file.
+#[pyfunction]
+fn load_photons(py: Python<'_>, path: PathBuf) -> PyResult<PhotonMaps> {
+    let maps = py
+        .detach(move || photon::io::phm::load(&path))
+        .map_err(to_py)?;
+    Ok(PhotonMaps {
+        inner: Arc::new(maps),
+    })
+}
+
+#[pymodule]
+fn _photon(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("PhotonError", m.py().get_type::<PhotonError>())?;
+    m.add_class::<Scene>()?;
+    m.add_class::<PhotonMaps>()?;
+    m.add_class::<Progressive>()?;
+    m.add_function(wrap_pyfunction!(load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(progressive, m)?)?;
+    m.add_function(wrap_pyfunction!(trace_photons, m)?)?;
+    m.add_function(wrap_pyfunction!(load_photons, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

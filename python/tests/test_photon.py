@@ -1,0 +1,211 @@
+"""The Python module against the command line: the same image bit for bit, located errors,
+AOVs, progressive iteration, photon maps as NumPy arrays, and clean interruption."""
+
+import os
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import photon
+
+ROOT = Path(__file__).resolve().parents[2]
+
+SCENE = """
+[camera]
+position = [0.0, 1.0, 4.0]
+look_at = [0.0, 0.5, 0.0]
+resolution = [32, 24]
+[materials.white]
+type = "diffuse"
+albedo = [0.8, 0.8, 0.8]
+[materials.glass]
+type = "glass"
+[[shapes]]
+type = "quad"
+vertices = [[-2, 0, -2], [2, 0, -2], [2, 0, 2], [-2, 0, 2]]
+material = "white"
+[[shapes]]
+type = "sphere"
+center = [0.0, 0.6, 0.0]
+radius = 0.5
+material = "glass"
+[[lights]]
+type = "point"
+position = [0.5, 2.5, 1.0]
+power = 100.0
+"""
+
+
+def photon_cli() -> str:
+    """The `photon` binary: $PHOTON_CLI, else the repository's release or debug build."""
+    env = os.environ.get("PHOTON_CLI")
+    if env:
+        return env
+    for profile in ("release", "debug"):
+        p = ROOT / "target" / profile / "photon"
+        if p.exists():
+            return str(p)
+    found = shutil.which("photon")
+    if found is None:
+        pytest.skip("no photon binary: build it with cargo build --release")
+    return found
+
+
+def read_pfm(path: Path) -> np.ndarray:
+    """A PFM image as (H, W, 3) float32, top row first."""
+    data = path.read_bytes()
+    header, rest = data.split(b"\n", 1)
+    assert header == b"PF"
+    dims, rest = rest.split(b"\n", 1)
+    w, h = map(int, dims.split())
+    scale, rest = rest.split(b"\n", 1)
+    dtype = "<f4" if float(scale) < 0 else ">f4"
+    pixels = np.frombuffer(rest, dtype=dtype, count=w * h * 3).reshape(h, w, 3)
+    return pixels[::-1].astype(np.float32)
+
+
+@pytest.fixture()
+def scene_file(tmp_path: Path) -> Path:
+    path = tmp_path / "s.toml"
+    path.write_text(SCENE)
+    return path
+
+
+@pytest.mark.parametrize(
+    "options, flags",
+    [
+        ({"integrator": "path", "spp": 8}, ["--integrator", "path", "--spp", "8"]),
+        (
+            {"integrator": "photon", "spp": 2, "photons": 20000, "caustic_photons": 20000},
+            ["--spp", "2", "--photons", "20000", "--caustic-photons", "20000"],
+        ),
+        (
+            {"integrator": "sppm", "passes": 3, "photons_per_pass": 5000},
+            ["--integrator", "sppm", "--passes", "3", "--photons-per-pass", "5000"],
+        ),
+    ],
+)
+def test_render_equals_the_command_line_bit_for_bit(scene_file, tmp_path, options, flags):
+    out = tmp_path / "cli.pfm"
+    subprocess.run(
+        [photon_cli(), "render", str(scene_file), "-q", "-o", str(out), *flags],
+        check=True,
+        capture_output=True,
+    )
+    image, aovs = photon.render(photon.load_scene(scene_file), **options)
+    assert image.dtype == np.float32 and image.shape == (24, 32, 3)
+    cli = read_pfm(out)
+    assert np.array_equal(image, cli), f"max difference {np.abs(image - cli).max()}"
+    assert image.mean() > 0
+
+
+def test_aovs_and_threads(scene_file):
+    scene = photon.load_scene(scene_file)
+    one, aovs = photon.render(scene, integrator="photon", spp=2, photons=20000, threads=1)
+    two, _ = photon.render(scene, integrator="photon", spp=2, photons=20000, threads=2)
+    assert np.array_equal(one, two), "the image must not depend on the thread count"
+    assert set(aovs) == {"direct", "caustic", "indirect", "albedo", "normal"}
+    # The photon integrator's beauty is the sum of its three parts.
+    total = aovs["direct"] + aovs["caustic"] + aovs["indirect"]
+    assert np.allclose(total, one, rtol=1e-5, atol=1e-6)
+    # The floor's albedo is 0.8 where the camera sees it directly.
+    assert np.isclose(aovs["albedo"][-1, 0], 0.8).all()
+
+
+def test_errors_are_photon_errors_with_file_line_and_column(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nradus = 2\n")
+    with pytest.raises(photon.PhotonError, match=r"bad\.toml:4:1: unknown key 'radus'"):
+        photon.load_scene(bad)
+    scene = photon.load_scene("cornell")
+    with pytest.raises(photon.PhotonError, match="unknown field `spp2`"):
+        photon.render(scene, spp2=4)
+    with pytest.raises(photon.PhotonError, match="give passes or a time"):
+        photon.render(scene, integrator="sppm")
+    assert issubclass(photon.PhotonError, ValueError)
+
+
+def test_progressive_yields_an_image_per_pass_ending_at_the_single_render(scene_file):
+    scene = photon.load_scene(scene_file)
+    options = dict(integrator="ppm", passes=4, photons_per_pass=5000)
+    images = list(photon.progressive(scene, **options))
+    assert len(images) == 4
+    final, _ = photon.render(scene, **options)
+    assert np.array_equal(images[-1], final)
+    assert not np.array_equal(images[0], images[-1])
+
+
+def test_photon_maps_as_arrays_and_phm_files(tmp_path):
+    scene = photon.load_scene("cornell")
+    maps = photon.trace_photons(scene, photons=20000, caustic_photons=40000)
+    n_global, n_caustic = maps.counts
+    arrays = maps.arrays("global")
+    assert arrays["positions"].shape == (n_global, 3)
+    assert arrays["positions"].dtype == np.float32
+    assert arrays["depth"].dtype == np.uint8 and arrays["depth"].shape == (n_global,)
+    # Incoming directions and normals are unit vectors; power is positive.
+    assert np.allclose(np.linalg.norm(arrays["directions"], axis=1), 1, atol=0.02)
+    assert np.allclose(np.linalg.norm(arrays["normals"], axis=1), 1, atol=0.02)
+    assert (arrays["power"] >= 0).all() and arrays["power"].sum() > 0
+    assert maps.arrays("caustic")["positions"].shape == (n_caustic, 3)
+    path = tmp_path / "m.phm"
+    maps.save(path)
+    again = photon.load_photons(path)
+    assert again.counts == maps.counts
+    assert np.array_equal(again.arrays()["positions"], arrays["positions"])
+    out = subprocess.run(
+        [photon_cli(), "photons", "info", str(path)], check=True, capture_output=True, text=True
+    )
+    assert str(n_global) in out.stdout + out.stderr
+
+
+def test_the_gil_is_released_while_rendering():
+    scene = photon.load_scene("cornell")
+    ticks = 0
+    done = threading.Event()
+
+    def count():
+        nonlocal ticks
+        while not done.is_set():
+            ticks += 1
+            time.sleep(0.001)
+
+    t = threading.Thread(target=count)
+    t.start()
+    photon.render(scene, integrator="path", spp=16, width=96, height=96)
+    done.set()
+    t.join()
+    assert ticks > 5, "another Python thread must run while Photon renders"
+
+
+def test_keyboard_interrupt_cancels_a_render_cleanly():
+    import _thread
+
+    scene = photon.load_scene("cornell")
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        # Minutes of work if it were not cancelled.
+        photon.render(scene, integrator="path", spp=4096, width=256, height=256)
+    timer.join()
+    # Photon is still usable afterwards.
+    image, _ = photon.render(scene, integrator="path", spp=1, width=8, height=8)
+    assert image.shape == (8, 8, 3)
+
+
+def test_scene_to_toml_round_trips(tmp_path):
+    scene = photon.load_scene("cornell")
+    text = scene.to_toml(tmp_path)
+    path = tmp_path / "c.toml"
+    path.write_text(text)
+    again = photon.load_scene(path)
+    a, _ = photon.render(scene, integrator="path", spp=2, width=16, height=16)
+    b, _ = photon.render(again, integrator="path", spp=2, width=16, height=16)
+    assert np.array_equal(a, b)
+    assert "cornell" in repr(scene)
