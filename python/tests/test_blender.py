@@ -1,0 +1,131 @@
+"""The Blender add-on, headless (Blender as a Python module, `pip install bpy`): the seed's
+Cornell box built in Python, rendered with the Photon engine (F12's path: bpy.ops.render),
+against `photon render` of the same scene exported to glTF by Blender. Skipped where bpy is
+not installed."""
+
+import math
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from test_photon import photon_cli  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "python" / "blender"))
+import photon_blender  # noqa: E402
+
+SIZE = 64
+PASSES = 24
+PHOTONS = 100_000
+
+
+def principled(name, base, metallic=0.0, roughness=0.5, **inputs):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*base, 1.0)
+    bsdf.inputs["Metallic"].default_value = metallic
+    bsdf.inputs["Roughness"].default_value = roughness
+    for socket, value in inputs.items():
+        bsdf.inputs[socket].default_value = value
+    return mat
+
+
+def plane(name, location, rotation, size, mat):
+    bpy.ops.mesh.primitive_plane_add(size=size, location=location, rotation=rotation)
+    obj = bpy.context.active_object
+    obj.name = name
+    obj.data.materials.append(mat)
+    return obj
+
+
+def cornell_box():
+    """The seed's box: 2 m, red left, green right, white elsewhere, a mirror sphere and a
+    glass sphere, an emissive disk under the ceiling and a small point light."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x = SIZE
+    scene.render.resolution_y = SIZE
+    scene.render.resolution_percentage = 100
+    white = principled("white", (0.75, 0.75, 0.75), roughness=1.0)
+    red = principled("red", (0.75, 0.1, 0.1), roughness=1.0)
+    green = principled("green", (0.1, 0.6, 0.1), roughness=1.0)
+    plane("floor", (0, 0, 0), (0, 0, 0), 2, white)
+    plane("ceiling", (0, 0, 2), (math.pi, 0, 0), 2, white)
+    plane("back", (0, 1, 1), (math.pi / 2, 0, 0), 2, white)
+    plane("left", (-1, 0, 1), (0, math.pi / 2, 0), 2, red)
+    plane("right", (1, 0, 1), (0, -math.pi / 2, 0), 2, green)
+    mirror = principled("mirror", (0.95, 0.95, 0.95), metallic=1.0, roughness=0.0)
+    glass = principled(
+        "glass", (1, 1, 1), roughness=0.0, **{"Transmission Weight": 1.0, "IOR": 1.5}
+    )
+    for name, loc, mat in [("mirror", (-0.45, 0.3, 0.4), mirror), ("glass", (0.45, -0.2, 0.4), glass)]:
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.4, location=loc)
+        obj = bpy.context.active_object
+        obj.name = name
+        bpy.ops.object.shade_smooth()
+        obj.data.materials.append(mat)
+    lamp = principled(
+        "lamp", (0, 0, 0), **{"Emission Color": (1, 1, 1, 1), "Emission Strength": 30.0}
+    )
+    bpy.ops.mesh.primitive_circle_add(
+        vertices=32, radius=0.3, fill_type="NGON", location=(0, 0, 1.99), rotation=(math.pi, 0, 0)
+    )
+    bpy.context.active_object.data.materials.append(lamp)
+    bpy.ops.object.light_add(type="POINT", location=(0.5, -0.6, 1.6))
+    bpy.context.active_object.data.energy = 20.0
+    bpy.ops.object.camera_add(location=(0, -3.9, 1), rotation=(math.pi / 2, 0, 0))
+    scene.camera = bpy.context.active_object
+    scene.camera.data.angle = math.radians(40)
+    return scene
+
+
+def compare(a, b):
+    """relMSE and mean ratios (a / b) from `photon compare`."""
+    out = subprocess.run(
+        [photon_cli(), "compare", str(a), str(b)], check=True, capture_output=True, text=True
+    ).stdout
+    overall = next(l for l in out.splitlines() if l.startswith("overall")).split()
+    return out, float(overall[2]), float(overall[3])
+
+
+def test_the_photon_engine_renders_the_cornell_box_like_the_cli_renders_its_gltf(tmp_path):
+    photon_blender.register()
+    try:
+        scene = cornell_box()
+        scene.render.engine = "PHOTON"
+        s = scene.photon
+        s.integrator, s.passes, s.photons_per_pass = "sppm", PASSES, PHOTONS
+        scene.view_settings.view_transform = "Standard"
+        scene.render.image_settings.file_format = "OPEN_EXR"
+        scene.render.image_settings.color_depth = "32"
+        engine_out = tmp_path / "engine.exr"
+        scene.render.filepath = str(engine_out)
+        bpy.ops.render.render(write_still=True)
+        assert engine_out.exists()
+        glb = tmp_path / "cornell.glb"
+        bpy.ops.export_scene.gltf(
+            filepath=str(glb), export_format="GLB", export_apply=True,
+            export_cameras=True, export_lights=True,
+        )
+        cli_out = tmp_path / "cli.exr"
+        subprocess.run(
+            [photon_cli(), "render", str(glb), "--integrator", "sppm", "--passes", str(PASSES),
+             "--photons-per-pass", str(PHOTONS), "--width", str(SIZE), "--height", str(SIZE),
+             "-q", "-o", str(cli_out)],
+            check=True,
+        )
+    finally:
+        photon_blender.unregister()
+    table, rel_mse, mean_ratio = compare(engine_out, cli_out)
+    print(table)
+    # Same scene, two routes (the add-on's own camera and light mapping; Blender's glTF
+    # export of them): equal within the noise of 24 SPPM passes.
+    assert abs(mean_ratio - 1.0) < 0.03, table
+    assert rel_mse < 0.02, table
