@@ -63,7 +63,14 @@ fn render_job_gives_the_command_lines_image_byte_for_byte() {
                 photons_per_pass: Some(4000),
                 ..RenderOptions::default()
             },
-            vec!["--integrator", "ppm", "--passes", "3", "--photons-per-pass", "4000"],
+            vec![
+                "--integrator",
+                "ppm",
+                "--passes",
+                "3",
+                "--photons-per-pass",
+                "4000",
+            ],
         ),
     ] {
         let job = RenderJob::new(&scene, &loaded.desc.render, options).expect("job");
