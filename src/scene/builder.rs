@@ -530,6 +530,7 @@ impl SceneBuilder {
             camera,
             default_resolution: self.resolution,
             bvh,
+            content_hash: std::sync::OnceLock::new(),
         };
         scene.aim_distant_lights_at_view();
         Ok(scene)
