@@ -86,6 +86,34 @@ def cornell_box():
     return scene
 
 
+def render_both(scene, tmp_path, passes=PASSES):
+    """The scene through the Photon engine (F12's path) and through `photon render` of
+    Blender's glTF export of it; returns the two EXR paths."""
+    scene.render.engine = "PHOTON"
+    s = scene.photon
+    s.integrator, s.passes, s.photons_per_pass = "sppm", passes, PHOTONS
+    scene.view_settings.view_transform = "Standard"
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    engine_out = tmp_path / "engine.exr"
+    scene.render.filepath = str(engine_out)
+    bpy.ops.render.render(write_still=True)
+    assert engine_out.exists()
+    glb = tmp_path / "scene.glb"
+    bpy.ops.export_scene.gltf(
+        filepath=str(glb), export_format="GLB", export_apply=True,
+        export_cameras=True, export_lights=True,
+    )
+    cli_out = tmp_path / "cli.exr"
+    subprocess.run(
+        [photon_cli(), "render", str(glb), "--integrator", "sppm", "--passes", str(passes),
+         "--photons-per-pass", str(PHOTONS), "--width", str(SIZE), "--height", str(SIZE),
+         "-q", "-o", str(cli_out)],
+        check=True,
+    )
+    return engine_out, cli_out
+
+
 def compare(a, b):
     """relMSE and mean ratios (a / b) from `photon compare`."""
     out = subprocess.run(
@@ -98,29 +126,7 @@ def compare(a, b):
 def test_the_photon_engine_renders_the_cornell_box_like_the_cli_renders_its_gltf(tmp_path):
     photon_blender.register()
     try:
-        scene = cornell_box()
-        scene.render.engine = "PHOTON"
-        s = scene.photon
-        s.integrator, s.passes, s.photons_per_pass = "sppm", PASSES, PHOTONS
-        scene.view_settings.view_transform = "Standard"
-        scene.render.image_settings.file_format = "OPEN_EXR"
-        scene.render.image_settings.color_depth = "32"
-        engine_out = tmp_path / "engine.exr"
-        scene.render.filepath = str(engine_out)
-        bpy.ops.render.render(write_still=True)
-        assert engine_out.exists()
-        glb = tmp_path / "cornell.glb"
-        bpy.ops.export_scene.gltf(
-            filepath=str(glb), export_format="GLB", export_apply=True,
-            export_cameras=True, export_lights=True,
-        )
-        cli_out = tmp_path / "cli.exr"
-        subprocess.run(
-            [photon_cli(), "render", str(glb), "--integrator", "sppm", "--passes", str(PASSES),
-             "--photons-per-pass", str(PHOTONS), "--width", str(SIZE), "--height", str(SIZE),
-             "-q", "-o", str(cli_out)],
-            check=True,
-        )
+        engine_out, cli_out = render_both(cornell_box(), tmp_path)
     finally:
         photon_blender.unregister()
     table, rel_mse, mean_ratio = compare(engine_out, cli_out)
@@ -129,3 +135,76 @@ def test_the_photon_engine_renders_the_cornell_box_like_the_cli_renders_its_gltf
     # export of them): equal within the noise of 24 SPPM passes.
     assert abs(mean_ratio - 1.0) < 0.03, table
     assert rel_mse < 0.02, table
+
+
+def test_spot_and_sun_lights_map_as_blenders_gltf_export_does(tmp_path):
+    photon_blender.register()
+    try:
+        scene = cornell_box()
+        # Only a spot light inside and the sun through the open front: no disk, no point.
+        for obj in list(scene.objects):
+            if obj.type == "LIGHT" or obj.name.startswith("Circle"):
+                bpy.data.objects.remove(obj)
+        bpy.ops.object.light_add(type="SPOT", location=(0.3, -0.5, 1.8), rotation=(0.3, 0.2, 0))
+        spot = bpy.context.active_object.data
+        spot.energy, spot.spot_size, spot.spot_blend = 60.0, math.radians(70), 0.15
+        bpy.ops.object.light_add(type="SUN", rotation=(math.radians(70), 0, math.radians(15)))
+        bpy.context.active_object.data.energy = 2.0
+        engine_out, cli_out = render_both(scene, tmp_path)
+    finally:
+        photon_blender.unregister()
+    table, rel_mse, mean_ratio = compare(engine_out, cli_out)
+    print(table)
+    assert abs(mean_ratio - 1.0) < 0.03, table
+    assert rel_mse < 0.02, table
+
+
+def test_an_area_light_emits_what_an_emissive_surface_of_its_radiance_does(tmp_path):
+    """A square area light of power P and side s is a one-sided Lambertian emitter of
+    radiance P / (π s²): the same image as an emissive, one-sided square of that radiance
+    (glTF emissive strength is radiance in Photon's importer)."""
+    power, side = 40.0, 0.5
+
+    def box_with(light):
+        scene = cornell_box()
+        for obj in list(scene.objects):
+            if obj.type == "LIGHT" or obj.name.startswith("Circle"):
+                bpy.data.objects.remove(obj)
+        light(scene)
+        scene.render.engine = "PHOTON"
+        s = scene.photon
+        s.integrator, s.passes, s.photons_per_pass = "sppm", PASSES, PHOTONS
+        scene.view_settings.view_transform = "Standard"
+        scene.render.image_settings.file_format = "OPEN_EXR"
+        scene.render.image_settings.color_depth = "32"
+        return scene
+
+    def area(scene):
+        bpy.ops.object.light_add(type="AREA", location=(0.2, 0.1, 1.9))
+        light = bpy.context.active_object.data
+        light.shape, light.size, light.energy = "SQUARE", side, power
+
+    def emissive(scene):
+        radiance = power / (math.pi * side * side)
+        mat = principled(
+            "panel", (0, 0, 0), **{"Emission Color": (1, 1, 1, 1), "Emission Strength": radiance}
+        )
+        mat.use_backface_culling = True  # one-sided, as the area light is
+        # Facing down, as the light does (a plane's normal is +z; turn it over).
+        plane("panel", (0.2, 0.1, 1.9), (math.pi, 0, 0), side, mat)
+
+    photon_blender.register()
+    try:
+        outs = []
+        for name, light in [("area", area), ("emissive", emissive)]:
+            scene = box_with(light)
+            out = tmp_path / f"{name}.exr"
+            scene.render.filepath = str(out)
+            bpy.ops.render.render(write_still=True)
+            outs.append(out)
+    finally:
+        photon_blender.unregister()
+    table, rel_mse, mean_ratio = compare(*outs)
+    print(table)
+    assert abs(mean_ratio - 1.0) < 0.03, table
+    assert rel_mse < 0.05, table
