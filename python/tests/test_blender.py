@@ -86,15 +86,20 @@ def cornell_box():
     return scene
 
 
-def render_both(scene, tmp_path, passes=PASSES):
-    """The scene through the Photon engine (F12's path) and through `photon render` of
-    Blender's glTF export of it; returns the two EXR paths."""
+def use_photon(scene, passes=PASSES):
+    """Render `scene` with the Photon engine (sppm) to linear 32-bit EXR."""
     scene.render.engine = "PHOTON"
     s = scene.photon
     s.integrator, s.passes, s.photons_per_pass = "sppm", passes, PHOTONS
     scene.view_settings.view_transform = "Standard"
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
+
+
+def render_both(scene, tmp_path, passes=PASSES):
+    """The scene through the Photon engine (F12's path) and through `photon render` of
+    Blender's glTF export of it; returns the two EXR paths."""
+    use_photon(scene, passes)
     engine_out = tmp_path / "engine.exr"
     scene.render.filepath = str(engine_out)
     bpy.ops.render.render(write_still=True)
@@ -171,12 +176,7 @@ def test_an_area_light_emits_what_an_emissive_surface_of_its_radiance_does(tmp_p
             if obj.type == "LIGHT" or obj.name.startswith("Circle"):
                 bpy.data.objects.remove(obj)
         light(scene)
-        scene.render.engine = "PHOTON"
-        s = scene.photon
-        s.integrator, s.passes, s.photons_per_pass = "sppm", PASSES, PHOTONS
-        scene.view_settings.view_transform = "Standard"
-        scene.render.image_settings.file_format = "OPEN_EXR"
-        scene.render.image_settings.color_depth = "32"
+        use_photon(scene)
         return scene
 
     def area(scene):
