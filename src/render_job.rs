@@ -25,6 +25,8 @@ use std::time::Instant;
 pub const MAX_K: usize = 1 << 16;
 /// Largest indirect scale (a debugging knob; 1 is correct): larger overflowed to Inf.
 pub const MAX_INDIRECT_SCALE: f32 = 1e6;
+/// Shadow rays per area light at each visible point of a progressive pass.
+pub const PROGRESSIVE_LIGHT_SAMPLES: u32 = 1;
 
 /// The rendering algorithms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -386,7 +388,10 @@ impl<'s> RenderJob<'s> {
             photons_per_pass: o.photons_per_pass.unwrap_or(100_000),
             initial_radius: o.radius,
             max_depth: o.max_depth.unwrap_or(16),
-            light_samples: o.light_samples.unwrap_or(4),
+            // One shadow ray per pass: passes average them, and a pass that spends less on
+            // direct light runs more photons (cornell at 10 s: relMSE 0.00197 with 4, 0.00179
+            // with 1).
+            light_samples: o.light_samples.unwrap_or(PROGRESSIVE_LIGHT_SAMPLES),
         }
     }
 

@@ -104,7 +104,7 @@ pub struct RenderArgs {
     /// Maximum number of bounces [default: 16 for direct and photon, 256 for path].
     #[arg(long)]
     max_depth: Option<u32>,
-    /// Samples per area light at each diffuse hit (direct and photon) [default: 4].
+    /// Samples per area light at each diffuse hit [default: 4; 1 per pass for sppm and ppm].
     #[arg(long)]
     light_samples: Option<u32>,
     /// Pixel filter: `box`, or `gaussian:SIGMA` (SIGMA in pixels; the original used 0.5)

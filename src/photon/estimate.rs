@@ -98,7 +98,7 @@ const DISC: f32 = 3.0;
 
 /// Distance² in the flattened metric, or `None` if the photon is on another surface.
 #[inline]
-pub(super) fn disc_distance2(d: Vec3, d2: f32, n: Vec3, photon_normal: Vec3) -> Option<f32> {
+pub(crate) fn disc_distance2(d: Vec3, d2: f32, n: Vec3, photon_normal: Vec3) -> Option<f32> {
     if photon_normal.dot(n) < NORMAL_AGREEMENT {
         return None;
     }
@@ -219,40 +219,6 @@ pub fn radiance(
             * w;
     });
     l * map.power_scale
-}
-
-/// Σ f ΔΦ over every photon of `map` within the fixed radius `r` of a point that passes the
-/// surface filter (W·sr⁻¹), and how many photons contributed: the progressive integrators'
-/// estimate before its division by the disc's area π r², which the caller does in f64 (a
-/// radius of 1e-25 squares to zero in f32).
-pub fn reflected_flux_within(
-    map: &PhotonMap,
-    p: Vec3,
-    frame: &Frame,
-    wo_local: Vec3,
-    material: &Material,
-    r: f32,
-    skip_direct: bool,
-) -> (Rgb, u32) {
-    let photons = map.photons();
-    let mut sum = Rgb::ZERO;
-    let mut count = 0;
-    let r2 = r * r;
-    map.for_each_within(p, r, &mut |i, d2| {
-        let ph = &photons[i];
-        if skip_direct && ph.is_direct() {
-            return;
-        }
-        if let Some(m) = disc_distance2(ph.position() - p, d2, frame.n, ph.normal())
-            && m <= r2
-        {
-            let wi = frame.to_local(ph.incoming());
-            sum += material.eval_part(wo_local, wi, TransportMode::Radiance, Part::Rough)
-                * ph.relative_power();
-            count += 1;
-        }
-    });
-    (sum * map.power_scale, count)
 }
 
 /// Irradiance E at `p` on the side of normal `n`: Σ ΔΦ w (watts per m²).

@@ -8,6 +8,7 @@
 
 pub mod cache;
 pub mod estimate;
+pub mod grid;
 pub mod hot;
 pub mod kdtree;
 mod map;
@@ -18,4 +19,6 @@ pub use cache::{IrradianceCache, is_cache_site};
 pub use estimate::{GatherParams, Kernel};
 pub use map::{MapKind, PhotonMap};
 pub use record::{Channel, Photon, decode_octahedral, encode_octahedral};
-pub use trace::{MAX_PHOTONS, PhotonConfig, PhotonMaps, TraceStats, trace_photons};
+pub use trace::{
+    MAX_PHOTONS, PhotonConfig, PhotonMaps, TraceStats, trace_indirect_photons, trace_photons,
+};

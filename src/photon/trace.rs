@@ -5,7 +5,7 @@ use super::map::{MapKind, PhotonMap};
 use super::record::{Channel, Photon};
 use crate::error::{Error, Result};
 use crate::material::{Part, TransportMode};
-use crate::math::{Ray, Rgb, offset_origin};
+use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::{Distribution1D, Rng};
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -109,6 +109,63 @@ impl PhotonMaps {
     }
 }
 
+/// Which light emits a photon of `channel`: each in proportion to its power in that channel
+/// (all three for RGB photons); `None` if no light emits in it.
+pub fn light_choice(scene: &Scene, channel: Channel) -> Option<Distribution1D> {
+    let weights: Vec<f64> = scene
+        .lights()
+        .iter()
+        .map(|l| {
+            let p = l.power();
+            f64::from(channel.index().map_or(p.x + p.y + p.z, |c| p[c]))
+        })
+        .collect();
+    Distribution1D::new(&weights)
+}
+
+/// Trace `photons` RGB photon paths with the random streams of [`trace_photons`] (photon `i`
+/// keyed by (seed, 0, i)) and keep the photons that did not come straight from a light, in
+/// photon order: what a progressive pass gathers (its direct light is next-event estimated).
+/// Returns them and the scale that turns their relative powers into watts (Φ_max / N).
+pub fn trace_indirect_photons(
+    scene: &Scene,
+    photons: u64,
+    seed: u64,
+    max_depth: u32,
+) -> Result<(Vec<Photon>, f32)> {
+    let total_max = scene.total_power().max_element();
+    let choice = light_choice(scene, Channel::Rgb).filter(|_| total_max > 0.0);
+    let Some(choice) = choice else {
+        return Err(Error::InvalidScene(NO_LIGHT.into()));
+    };
+    let ctx = PathContext {
+        scene,
+        max_depth,
+        absorption: None,
+        channel: Channel::Rgb,
+        choice: &choice,
+        total_max,
+    };
+    let chunks: Vec<Vec<Photon>> = (0..photons.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|k| {
+            let mut out = Vec::new();
+            for i in k * CHUNK..((k + 1) * CHUNK).min(photons) {
+                let mut rng = Rng::keyed(seed, &[0, i]);
+                trace_path(&ctx, &mut rng, &mut |v| {
+                    if v.depth > 1 {
+                        out.push(Photon::new(v.p, v.n, v.wo, v.power, v.depth, Channel::Rgb));
+                    }
+                });
+            }
+            out
+        })
+        .collect();
+    Ok((chunks.concat(), total_max / photons as f32))
+}
+
+const NO_LIGHT: &str = "the scene emits no light, so there are no photons to trace (light it with a sky: --env R,G,B or --env FILE.exr, or a [[lights]] table)";
+
 /// Photons per parallel work item: small enough to balance, large enough to amortise.
 const CHUNK: u64 = 4096;
 
@@ -138,25 +195,24 @@ pub fn trace_photons(
     let total_max = scene.total_power().max_element();
     let global_photons = config.global_photons.unwrap_or(config.photons);
     if lights.is_empty() || total_max.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-        return Err(Error::InvalidScene(
-            "the scene emits no light, so there are no photons to trace (light it with a sky: --env R,G,B or --env FILE.exr, or a [[lights]] table)".into(),
-        ));
+        return Err(Error::InvalidScene(NO_LIGHT.into()));
     }
     let chunks_per_channel = config.photons.div_ceil(CHUNK);
     let total_chunks = chunks_per_channel * channels.len() as u64;
     let done = std::sync::atomic::AtomicU64::new(0);
     let mut outs: Vec<ChunkOut> = Vec::new();
     for (ci, &channel) in channels.iter().enumerate() {
-        let weights: Vec<f64> = lights
-            .iter()
-            .map(|l| {
-                let p = l.power();
-                f64::from(channel.index().map_or(p.x + p.y + p.z, |c| p[c]))
-            })
-            .collect();
-        let Some(choice) = Distribution1D::new(&weights) else {
+        let Some(choice) = light_choice(scene, channel) else {
             // This channel emits nothing: no photons for it.
             continue;
+        };
+        let ctx = PathContext {
+            scene,
+            max_depth: config.max_depth,
+            absorption: config.absorption,
+            channel,
+            choice: &choice,
+            total_max,
         };
         let chunk_outs: Vec<ChunkOut> = (0..chunks_per_channel)
             .into_par_iter()
@@ -171,16 +227,9 @@ pub fn trace_photons(
                 for i in start..end {
                     let mut rng = Rng::keyed(config.seed, &[ci as u64, i]);
                     let store_global = i < global_photons;
-                    trace_one(
-                        scene,
-                        config,
-                        channel,
-                        &choice,
-                        total_max,
-                        store_global,
-                        &mut rng,
-                        &mut out,
-                    );
+                    trace_path(&ctx, &mut rng, &mut |v| {
+                        store(v, channel, store_global, &mut out);
+                    });
                 }
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 progress(n, total_chunks);
@@ -217,31 +266,48 @@ pub fn trace_photons(
     })
 }
 
-/// Follow one photon from its light until it is absorbed, escapes or reaches the maximum depth.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "the per-photon state of one trace"
-)]
-fn trace_one(
-    scene: &Scene,
-    config: &PhotonConfig,
+/// Where a photon path met a rough surface: what a photon map stores, or a splat deposits.
+#[derive(Clone, Copy, Debug)]
+struct PathVertex {
+    p: Vec3,
+    /// Shading normal on the side the photon arrived from.
+    n: Vec3,
+    /// Direction back toward where the photon came from.
+    wo: Vec3,
+    /// Power relative to Φ_max / N (see [`PhotonMaps`]); times `total_max / N` gives watts.
+    power: Rgb,
+    /// Surface hits so far, this one included (1: straight from a light).
+    depth: u32,
+    /// Every scattering before this hit was by a smooth lobe (the path is L S* so far).
+    specular_only: bool,
+}
+
+/// What a photon path depends on besides its random numbers.
+struct PathContext<'a> {
+    scene: &'a Scene,
+    max_depth: u32,
+    absorption: Option<f32>,
     channel: Channel,
-    choice: &Distribution1D,
+    /// Which light emits, in proportion to its power in `channel`.
+    choice: &'a Distribution1D,
+    /// Brightest channel of the scene's total power: relative powers are stored against it.
     total_max: f32,
-    store_global: bool,
-    rng: &mut Rng,
-    out: &mut ChunkOut,
-) {
-    let (light_index, _) = choice.sample(rng.next_f32());
-    let pmf = choice.pmf(light_index);
+}
+
+/// Follow one photon from its light until it is absorbed, escapes or reaches the maximum depth,
+/// calling `visit` at every rough surface it meets.
+fn trace_path(ctx: &PathContext, rng: &mut Rng, visit: &mut impl FnMut(&PathVertex)) {
+    let scene = ctx.scene;
+    let (light_index, _) = ctx.choice.sample(rng.next_f32());
+    let pmf = ctx.choice.pmf(light_index);
     let u_pick = rng.next_f32();
     let (u_pos, u_dir) = (rng.next_2d(), rng.next_2d());
     let Some(e) = scene.lights()[light_index].emit(u_pick, u_pos, u_dir) else {
         return;
     };
     // The photon carries Φ_light / (pmf · N); stored relative to Φ_max / N.
-    let mut power = e.flux / (pmf * total_max);
-    if let Some(c) = channel.index() {
+    let mut power = e.flux / (pmf * ctx.total_max);
+    if let Some(c) = ctx.channel.index() {
         let mut only = Rgb::ZERO;
         only[c] = power[c];
         power = only;
@@ -252,25 +318,24 @@ fn trace_one(
         offset_origin(e.origin, e.normal, e.dir)
     };
     let mut ray = Ray::new(origin, e.dir);
-    // True while every scattering so far was by a smooth lobe (the path is L S* so far).
     let mut specular_only = true;
-    for depth in 1..=config.max_depth {
+    for depth in 1..=ctx.max_depth {
         let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
             return;
         };
         let wo = -ray.dir;
         let (material, frame) = scene.surface(&hit, wo);
         if material.has(Part::Rough) {
-            let photon = Photon::new(hit.p, frame.n, wo, power, depth, channel);
-            if depth > 1 && specular_only {
-                out.caustic.push(photon);
-                out.by_depth[depth as usize] += 1;
-            } else if store_global {
-                out.global.push(photon);
-                out.by_depth[depth as usize] += 1;
-            }
+            visit(&PathVertex {
+                p: hit.p,
+                n: frame.n,
+                wo,
+                power,
+                depth,
+                specular_only,
+            });
         }
-        if depth == config.max_depth {
+        if depth == ctx.max_depth {
             return;
         }
         let u_lobe = rng.next_f32();
@@ -283,7 +348,7 @@ fn trace_one(
             return;
         };
         // Survival probability: fixed, or the scattered fraction in the channel(s) carried.
-        let survive = match (config.absorption, channel.index()) {
+        let survive = match (ctx.absorption, ctx.channel.index()) {
             (Some(p), _) => 1.0 - p,
             (None, Some(c)) => s.weight[c].min(1.0),
             (None, None) => s.weight.max_element().min(1.0),
@@ -295,5 +360,17 @@ fn trace_one(
         specular_only &= material.is_smooth_lobe(s.lobe);
         let wi = frame.to_world(s.wi);
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+    }
+}
+
+/// Store a path's photons: caustic (L S+ D) or, for the first `global_photons` paths, global.
+fn store(v: &PathVertex, channel: Channel, store_global: bool, out: &mut ChunkOut) {
+    let photon = Photon::new(v.p, v.n, v.wo, v.power, v.depth, channel);
+    if v.depth > 1 && v.specular_only {
+        out.caustic.push(photon);
+        out.by_depth[v.depth as usize] += 1;
+    } else if store_global {
+        out.global.push(photon);
+        out.by_depth[v.depth as usize] += 1;
     }
 }

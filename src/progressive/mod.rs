@@ -15,4 +15,4 @@
 
 pub mod state;
 
-pub use state::{Method, PassStats, ProgressiveConfig, ProgressiveState};
+pub use state::{Method, PassSeconds, PassStats, ProgressiveConfig, ProgressiveState};

@@ -2,13 +2,16 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter, stratified_2d};
 use crate::integrator::{RayStats, VisiblePoint, trace_camera_path};
+use crate::material::{Part, TransportMode};
 use crate::math::{Rgb, Vec2};
-use crate::photon::estimate::reflected_flux_within;
-use crate::photon::{PhotonConfig, PhotonMaps, trace_photons};
+use crate::photon::estimate::disc_distance2;
+use crate::photon::grid::{PhotonGrid, QueryScratch};
+use crate::photon::trace_indirect_photons;
 use crate::sampling::{Rng, mix64};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::f64::consts::PI;
+use std::time::Instant;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
@@ -116,8 +119,21 @@ pub struct ProgressiveState {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PassStats {
     pub photons_emitted: u64,
+    /// Photons kept for gathering (those that did not come straight from a light).
     pub photons_stored: u64,
     pub rays: RayStats,
+    pub seconds: PassSeconds,
+}
+
+/// Where a pass's wall-clock time went (for benchmarks; never part of the image).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PassSeconds {
+    /// Camera paths to the visible points, with their direct light.
+    pub camera: f64,
+    /// Photon tracing and the grid build.
+    pub photons: f64,
+    /// Every visible point's gather and the pixel updates.
+    pub gather: f64,
 }
 
 impl ProgressiveState {
@@ -148,50 +164,92 @@ impl ProgressiveState {
         self.first_pass + self.passes
     }
 
-    /// Run the next pass.
+    /// Run the next pass: every pixel's camera path to its visible point, then the pass's
+    /// photons splatted into those points (see [`super::splat`]), then each pixel's update.
     pub fn run_pass(&mut self, scene: &Scene) -> Result<PassStats> {
         let c = self.config.clone();
         let pass = self.next_pass();
-        let photon_config = PhotonConfig {
-            photons: c.photons_per_pass,
-            seed: mix64(c.seed ^ mix64(pass.wrapping_add(0x5eed))),
-            ..PhotonConfig::default()
-        };
-        let maps = trace_photons(scene, &photon_config, &|_, _| {})?;
         let camera = Camera::new(&scene.camera, c.width, c.height)
             .ok_or_else(|| Error::InvalidScene("degenerate camera".into()))?;
         // Pixel footprint per unit distance, for the automatic radius.
         let footprint = 2.0 * (0.5 * scene.camera.fov_y_deg.to_radians()).tan() / c.height as f32;
         let width = c.width as usize;
+        let initial_r = |vp: &VisiblePoint| {
+            c.initial_radius
+                .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance)
+        };
         let ppm_r_scale = ppm_radius_scale(pass, c.alpha);
-        let rays = match c.method {
-            Method::Sppm => for_each_pixel(&mut self.sppm, width, |x, y, px, stats| {
-                sppm_pixel(scene, &maps, &camera, &c, pass, footprint, x, y, px, stats);
-            }),
-            Method::Ppm => for_each_pixel(&mut self.ppm, width, |x, y, px, stats| {
-                let l = ppm_pixel(
-                    scene,
-                    &maps,
-                    &camera,
-                    &c,
-                    pass,
-                    footprint,
-                    ppm_r_scale,
-                    x,
-                    y,
-                    stats,
-                );
-                for k in 0..3 {
-                    // `as` saturates; the sum saturates too.
-                    px[k] = px[k].saturating_add((f64::from(l[k]) * FIXED).round() as i128);
+        let trace = |x: usize, y: usize, stats: &mut RayStats| {
+            let (ray, mut rng) = camera_ray(&camera, c.seed, pass, x, y, width);
+            trace_camera_path(scene, &ray, c.max_depth, c.light_samples, &mut rng, stats)
+        };
+        let start = Instant::now();
+        // 1. Visible points, with the direct light added to each pixel as it is found.
+        let (visible, rays) = match c.method {
+            Method::Sppm => visible_points(&mut self.sppm, width, |x, y, px, stats| {
+                let path = trace(x, y, stats);
+                add_finite(&mut px.direct, path.direct);
+                let vp = path.visible?;
+                if px.r2 == 0.0 {
+                    px.r2 = f64::from(initial_r(&vp)).powi(2);
                 }
+                Some((vp, px.r2 as f32))
+            }),
+            Method::Ppm => visible_points(&mut self.ppm, width, |x, y, px, stats| {
+                let path = trace(x, y, stats);
+                add_fixed(px, path.direct);
+                let vp = path.visible?;
+                let r = f64::from(initial_r(&vp)) * f64::from(ppm_r_scale);
+                Some((vp, (r * r) as f32))
             }),
         };
+        let camera_done = start.elapsed();
+        // 2. Photons, in a grid whose cells suit the median gather radius.
+        let seed = mix64(c.seed ^ mix64(pass.wrapping_add(0x5eed)));
+        let (photons, scale) =
+            trace_indirect_photons(scene, c.photons_per_pass, seed, PHOTON_MAX_DEPTH)?;
+        let photons_stored = photons.len() as u64;
+        let grid = PhotonGrid::build(photons, 2.0 * median_radius(&visible));
+        let photons_done = start.elapsed();
+        // 3. Each visible point gathers, then its pixel takes the result.
+        let gathered: Vec<(Rgb, u32)> = visible
+            .par_chunks(GATHER_CHUNK)
+            .flat_map_iter(|chunk| {
+                let mut scratch = QueryScratch::default();
+                chunk
+                    .iter()
+                    .map(|v| photon_flux(&grid, &v.vp, v.r2, &mut scratch))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        for (v, &(flux, m)) in visible.iter().zip(&gathered) {
+            // Σ f·ΔΦ in watts, weighted by the camera path's throughput; a channel that
+            // overflows is dropped.
+            let phi = (flux * scale * v.vp.beta)
+                .to_array()
+                .map(|x| if x.is_finite() { f64::from(x) } else { 0.0 });
+            match c.method {
+                Method::Sppm => sppm_update(&mut self.sppm[v.pixel], c.alpha, phi, m),
+                Method::Ppm => {
+                    if m > 0 {
+                        // In f64: π r² underflows f32 for tiny radii.
+                        let inv_area = 1.0 / (PI * f64::from(v.r2));
+                        let l = phi.map(|x| (x * inv_area) as f32);
+                        add_fixed(&mut self.ppm[v.pixel], Rgb::from_array(l));
+                    }
+                }
+            }
+        }
         self.passes += 1;
         Ok(PassStats {
-            photons_emitted: maps.stats.emitted,
-            photons_stored: (maps.caustic.len() + maps.global.len()) as u64,
+            photons_emitted: c.photons_per_pass,
+            photons_stored,
             rays,
+            seconds: PassSeconds {
+                camera: camera_done.as_secs_f64(),
+                photons: (photons_done - camera_done).as_secs_f64(),
+                gather: (start.elapsed() - photons_done).as_secs_f64(),
+            },
         })
     }
 
@@ -262,28 +320,88 @@ impl ProgressiveState {
     }
 }
 
-/// Run `f(x, y, pixel, stats)` on every pixel, rows in parallel; pixels are independent, so
-/// the result does not depend on the thread count.
-fn for_each_pixel<P: Send>(
+/// A pixel's visible point in this pass and its squared gather radius.
+struct PassPoint {
+    pixel: usize,
+    vp: VisiblePoint,
+    r2: f32,
+}
+
+/// Run `f(x, y, pixel, stats)` on every pixel, rows in parallel, and collect the visible
+/// points it returns in pixel order; pixels are independent, so the result does not depend
+/// on the thread count.
+fn visible_points<P: Send>(
     pixels: &mut [P],
     width: usize,
-    f: impl Fn(usize, usize, &mut P, &mut RayStats) + Sync,
-) -> RayStats {
-    pixels
+    f: impl Fn(usize, usize, &mut P, &mut RayStats) -> Option<(VisiblePoint, f32)> + Sync,
+) -> (Vec<PassPoint>, RayStats) {
+    let rows: Vec<(Vec<PassPoint>, RayStats)> = pixels
         .par_chunks_mut(width)
         .enumerate()
         .map(|(y, row)| {
             let mut stats = RayStats::default();
+            let mut points = Vec::new();
             for (x, px) in row.iter_mut().enumerate() {
-                f(x, y, px, &mut stats);
+                if let Some((vp, r2)) = f(x, y, px, &mut stats) {
+                    points.push(PassPoint {
+                        pixel: y * width + x,
+                        vp,
+                        r2,
+                    });
+                }
             }
-            stats
+            (points, stats)
         })
-        .reduce(RayStats::default, |mut a, b| {
-            a.add(&b);
-            a
-        })
+        .collect();
+    let mut stats = RayStats::default();
+    let mut points = Vec::with_capacity(pixels.len());
+    for (row, s) in rows {
+        points.extend(row);
+        stats.add(&s);
+    }
+    (points, stats)
 }
+
+/// Visible points gathered per parallel work item.
+const GATHER_CHUNK: usize = 1024;
+
+/// Median gather radius of a pass's points (0 with none).
+fn median_radius(points: &[PassPoint]) -> f32 {
+    let mut r2: Vec<f32> = points.iter().map(|p| p.r2).collect();
+    if r2.is_empty() {
+        return 0.0;
+    }
+    let mid = r2.len() / 2;
+    r2.select_nth_unstable_by(mid, f32::total_cmp).1.sqrt()
+}
+
+/// Σ f·ΔΦ (relative powers) at a visible point over the photons within its disc of radius²
+/// `r2`, and the number of photons used.
+fn photon_flux(
+    grid: &PhotonGrid,
+    vp: &VisiblePoint,
+    r2: f32,
+    scratch: &mut QueryScratch,
+) -> (Rgb, u32) {
+    let mut sum = Rgb::ZERO;
+    let mut count = 0;
+    grid.for_each_within(vp.p, r2.sqrt(), scratch, &mut |ph, d2| {
+        if let Some(m) = disc_distance2(ph.position() - vp.p, d2, vp.frame.n, ph.normal())
+            && m <= r2
+        {
+            let wi = vp.frame.to_local(ph.incoming());
+            sum += vp
+                .material
+                .eval_part(vp.wo_local, wi, TransportMode::Radiance, Part::Rough)
+                * ph.relative_power();
+            count += 1;
+        }
+    });
+    (sum, count)
+}
+
+/// Maximum depth of a progressive pass's photon paths.
+const PHOTON_MAX_DEPTH: u32 = 64;
 
 /// r_p / r_0 for PPM pass p (0-based): r_{i+1}² = r_i² (i + α)/(i + 1), with r_1 = r_0.
 pub fn ppm_radius_scale(pass: u64, alpha: f64) -> f32 {
@@ -309,25 +427,6 @@ fn camera_ray(
     (camera.ray(pos), rng)
 }
 
-/// Σ f·ΔΦ at a visible point over both maps within radius `r` (direct photons left out: direct
-/// light comes from next-event estimation), and the number of photons used.
-fn photon_flux(maps: &PhotonMaps, vp: &VisiblePoint, r: f32) -> (Rgb, u32) {
-    let within = |map, skip_direct| {
-        reflected_flux_within(
-            map,
-            vp.p,
-            &vp.frame,
-            vp.wo_local,
-            &vp.material,
-            r,
-            skip_direct,
-        )
-    };
-    let (fc, mc) = within(&maps.caustic, false);
-    let (fg, mg) = within(&maps.global, true);
-    (fc + fg, mc + mg)
-}
-
 /// Adds the finite channels of `l` to `sum`: a NaN or infinity from one sample must not poison
 /// a pixel for good, and dropping only the bad channel keeps the rest of the light.
 fn add_finite(sum: &mut [f64; 3], l: Rgb) {
@@ -338,83 +437,28 @@ fn add_finite(sum: &mut [f64; 3], l: Rgb) {
     }
 }
 
-#[expect(clippy::too_many_arguments, reason = "per-pixel kernel of a pass")]
-fn sppm_pixel(
-    scene: &Scene,
-    maps: &PhotonMaps,
-    camera: &Camera,
-    c: &ProgressiveConfig,
-    pass: u64,
-    footprint: f32,
-    x: usize,
-    y: usize,
-    px: &mut SppmPixel,
-    stats: &mut RayStats,
-) {
-    let (ray, mut rng) = camera_ray(camera, c.seed, pass, x, y, c.width as usize);
-    let path = trace_camera_path(scene, &ray, c.max_depth, c.light_samples, &mut rng, stats);
-    add_finite(&mut px.direct, path.direct);
-    let Some(vp) = path.visible else {
-        return;
-    };
-    if px.r2 == 0.0 {
-        let r0 = c
-            .initial_radius
-            .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance);
-        px.r2 = f64::from(r0) * f64::from(r0);
+/// Add the finite channels of `l` to a PPM pixel's fixed-point sums (`as` saturates, and so
+/// does the sum).
+fn add_fixed(px: &mut [i128; 3], l: Rgb) {
+    for (s, v) in px.iter_mut().zip(l.to_array()) {
+        if v.is_finite() {
+            *s = s.saturating_add((f64::from(v) * FIXED).round() as i128);
+        }
     }
-    let (flux, m) = photon_flux(maps, &vp, px.r2.sqrt() as f32);
+}
+
+/// SPPM's update of a pixel by the `m` photons of a pass (Hachisuka & Jensen 2009, eq. 6–7):
+/// N ← N + αM, r² ← r² (N + αM)/(N + M), τ ← (τ + Φ) r²_new / r²_old.
+fn sppm_update(px: &mut SppmPixel, alpha: f64, phi: [f64; 3], m: u32) {
+    if m == 0 {
+        return;
+    }
     let m = f64::from(m);
-    // Σ f·Φ weighted by the specular chain; a non-finite channel is dropped.
-    let phi = (flux * vp.beta)
-        .to_array()
-        .map(|v| if v.is_finite() { v } else { 0.0 });
-    if m == 0.0 {
-        return;
-    }
-    let n_new = px.n + c.alpha * m;
+    let n_new = px.n + alpha * m;
     let r2_new = px.r2 * n_new / (px.n + m);
     for (tau, phi) in px.tau.iter_mut().zip(phi) {
-        *tau = (*tau + f64::from(phi)) * (r2_new / px.r2);
+        *tau = (*tau + phi) * (r2_new / px.r2);
     }
     px.n = n_new;
     px.r2 = r2_new;
-}
-
-#[expect(clippy::too_many_arguments, reason = "per-pixel kernel of a pass")]
-fn ppm_pixel(
-    scene: &Scene,
-    maps: &PhotonMaps,
-    camera: &Camera,
-    c: &ProgressiveConfig,
-    pass: u64,
-    footprint: f32,
-    radius_scale: f32,
-    x: usize,
-    y: usize,
-    stats: &mut RayStats,
-) -> Rgb {
-    let (ray, mut rng) = camera_ray(camera, c.seed, pass, x, y, c.width as usize);
-    let path = trace_camera_path(scene, &ray, c.max_depth, c.light_samples, &mut rng, stats);
-    let Some(vp) = path.visible else {
-        return path.direct;
-    };
-    let r0 = c
-        .initial_radius
-        .unwrap_or(FOOTPRINT_PIXELS * footprint * vp.distance);
-    let r = f64::from(r0) * f64::from(radius_scale);
-    let (flux, m) = photon_flux(maps, &vp, r as f32);
-    let photons = if m == 0 {
-        Rgb::ZERO
-    } else {
-        // In f64: π r² underflows f32 for tiny radii; a channel that still overflows is dropped.
-        let inv_area = 1.0 / (PI * r * r);
-        let l = (flux * vp.beta)
-            .to_array()
-            .map(|v| (f64::from(v) * inv_area) as f32);
-        Rgb::from_array(l)
-    };
-    let finite =
-        |v: Rgb| Rgb::from_array(v.to_array().map(|x| if x.is_finite() { x } else { 0.0 }));
-    finite(path.direct) + finite(photons)
 }
