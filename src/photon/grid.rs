@@ -120,7 +120,7 @@ impl PhotonGrid {
         let lo = self.cell_of(q - r);
         let hi = self.cell_of(q + r);
         let cells: f64 = (0..3).map(|k| hi[k] as f64 - lo[k] as f64 + 1.0).product();
-        if !(cells <= MAX_QUERY_CELLS as f64) || cells > self.starts.len() as f64 {
+        if cells > MAX_QUERY_CELLS as f64 || cells > self.starts.len() as f64 {
             visit(&self.photons);
             return;
         }
