@@ -1,98 +1,29 @@
-//! Photon benchmark: tracing (emitted and stored photons/s), kd-tree build, and k-nearest and
-//! radius queries per second on the built-in scenes. Run with `cargo bench --bench photons`.
-//! Compare with the original project (../shared/seed/SEED-NOTES.md): 13,000 photons/s,
-//! ~1 M photons/s kd-tree build, 180–260 µs per radius query, 137 bytes per photon.
-
-use photon::description::builtin;
-use photon::photon::{PhotonConfig, trace_photons};
-use photon::sampling::Rng;
-use rayon::prelude::*;
-use std::time::Instant;
+//! Photon benchmark: tracing (1 M photons emitted, maps built) on the built-in scenes, and
+//! radius and 50-nearest queries per second on one core in the setting of
+//! ../shared/design/crates.md (about 1 M photons on box walls, 500k queries of ~50 photons;
+//! a hand-written grid reached 1.28–1.36 M/s there). `photon::bench::micro`; also part of
+//! `photon bench`. Run with `cargo bench --bench photons`. The original project
+//! (../shared/seed/SEED-NOTES.md) traced 13,000 photons/s and took 180–260 µs per query.
 
 fn main() {
     for name in ["cornell", "seed"] {
-        let scene = builtin::load(name).expect("built-in");
-        let config = PhotonConfig {
-            photons: 1_000_000,
-            ..PhotonConfig::default()
-        };
-        let t = Instant::now();
-        let maps = trace_photons(&scene, &config, &|_, _| {}).expect("traces");
-        let secs = t.elapsed().as_secs_f64();
-        let stored = maps.caustic.len() + maps.global.len();
+        let p = photon::bench::micro::photons(name).expect("built-in scene");
         println!(
-            "{name}: traced 1M photons in {secs:.3} s on {} threads (trace + build): {:.2} M emitted/s, {:.2} M stored/s ({stored} stored)",
-            rayon::current_num_threads(),
-            1.0 / secs,
-            stored as f64 / secs / 1e6
+            "{name}: {:.2} M photons emitted/s on {} threads, trace and kd-tree builds ({} stored of 1 M)",
+            p.emitted_per_s, p.threads, p.stored
         );
-        let photons = maps.global.photons().to_vec();
-        let t = Instant::now();
-        let map = photon::photon::PhotonMap::build(photon::photon::MapKind::Global, photons, 1.0);
-        println!(
-            "{name}: kd-tree build of {} photons: {:.1} ms",
-            map.len(),
-            t.elapsed().as_secs_f64() * 1e3
-        );
-        // Queries at stored photon positions (where renders ask), radius giving ~50 photons.
-        let mut rng = Rng::keyed(1, &[]);
-        let queries: Vec<_> = (0..200_000)
-            .map(|_| map.photons()[(rng.next_u32() as usize) % map.len()].position())
-            .collect();
-        let extent = map.bounds().extent().max_element();
-        let mut r = extent * 0.01;
-        for _ in 0..20 {
-            let mean = queries[..2000]
-                .iter()
-                .map(|&q| map.within(q, r).len())
-                .sum::<usize>() as f32
-                / 2000.0;
-            r *= (50.0 / mean.max(1.0)).sqrt().clamp(0.5, 2.0);
-        }
-        // Coherent queries (in tree order, as neighbouring pixels ask) against random ones.
-        let coherent: Vec<_> = map
-            .photons()
-            .iter()
-            .step_by(map.len() / queries.len())
-            .map(|p| p.position())
-            .collect();
-        let t = Instant::now();
-        let n: usize = coherent.iter().map(|&q| map.within(q, r).len()).sum();
-        println!(
-            "{name}: 1 thread, coherent queries: {:.2} M radius queries/s ({:.0} photons/query)",
-            coherent.len() as f64 / t.elapsed().as_secs_f64() / 1e6,
-            n as f64 / coherent.len() as f64
-        );
-        for threads in [1, rayon::current_num_threads()] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .expect("pool");
-            let t = Instant::now();
-            let found: usize = pool.install(|| {
-                queries
-                    .par_iter()
-                    .map(|&q| {
-                        let mut n = 0;
-                        map.for_each_within(q, r, &mut |_, _| n += 1);
-                        n
-                    })
-                    .sum()
-            });
-            let radius_rate = queries.len() as f64 / t.elapsed().as_secs_f64() / 1e6;
-            let t = Instant::now();
-            let knn: usize = pool.install(|| {
-                queries
-                    .par_iter()
-                    .map(|&q| map.nearest(q, 50, 2.0 * r).len())
-                    .sum()
-            });
-            let knn_rate = queries.len() as f64 / t.elapsed().as_secs_f64() / 1e6;
-            println!(
-                "{name}: {threads} thread(s): radius r = {r:.4} ({:.0} photons/query): {radius_rate:.2} M queries/s; 50-nearest: {knn_rate:.2} M queries/s ({:.0} found/query)",
-                found as f64 / queries.len() as f64,
-                knn as f64 / queries.len() as f64
-            );
-        }
     }
+    let q = photon::bench::micro::queries().expect("built-in scene");
+    println!(
+        "queries, 1 thread: {} photons, {} queries, r = {:.4} ({:.0} photons/query)",
+        q.photons, q.queries, q.radius, q.photons_per_query
+    );
+    println!(
+        "  radius: grid {:.2} M/s, kd-tree {:.2} M/s; 50-nearest (kd-tree) {:.2} M/s",
+        q.grid_radius, q.kd_radius, q.kd_nearest_50
+    );
+    println!(
+        "  builds: grid {:.0} ms, kd-tree {:.0} ms",
+        q.grid_build_ms, q.kd_build_ms
+    );
 }

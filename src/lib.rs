@@ -4,6 +4,7 @@
 //! it. See ARCHITECTURE.md for the map of modules, the data flow and the invariants.
 
 pub mod accel;
+pub mod bench;
 pub mod camera;
 pub mod compare;
 pub mod description;

@@ -16,6 +16,7 @@ macro_rules! outln {
     }};
 }
 
+mod bench;
 mod compare;
 mod job;
 mod job_submit;
@@ -66,6 +67,9 @@ enum Command {
     Model(model::ModelArgs),
     /// List the built-in scenes, or write one (or any scene file) as a TOML scene.
     Scenes(ScenesArgs),
+    /// The standard benchmark: error against time for each integrator on `cornell` and `seed`
+    /// (budgets 1, 4, 12, 40 s), and rays/s, photons/s and queries/s, as JSON and an SVG plot.
+    Bench(bench::BenchArgs),
     /// Render the validation scenes with every integrator and compare them with their
     /// references: time, relMSE, mean ratios and the worst region, as a table.
     Validate(validate::ValidateArgs),
@@ -81,6 +85,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Job { command } => job::run(command),
         Command::Scenes(args) => scenes(&args),
         Command::Validate(args) => validate::run_suite(&args),
+        Command::Bench(args) => bench::run(&args),
     }
 }
 

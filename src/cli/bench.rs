@@ -1,0 +1,325 @@
+//! `photon bench`: the standard set (error against time per integrator on `cornell` and
+//! `seed`, and the micro-benchmarks) as `OUT/bench.json` and `OUT/bench.svg`.
+
+use anyhow::{Context, Result, bail};
+use photon::bench::{self, BenchScene, Crossing, Run, micro, plot};
+use photon::io::image::{read_image, write_atomically};
+use photon::render_job::IntegratorKind;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// Scenes (comma-separated built-in names or scene files).
+    #[arg(long, value_delimiter = ',', default_value = "cornell,seed")]
+    scenes: Vec<String>,
+    /// Integrators (comma-separated: photon, sppm, ppm, path, direct).
+    #[arg(long, value_delimiter = ',', default_value = "photon,sppm,ppm,path")]
+    integrators: Vec<String>,
+    /// Wall-clock budgets in seconds (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "1,4,12,40")]
+    budgets: Vec<f64>,
+    /// Folder of references, NAME.exr for scene NAME (the repository's bench/references).
+    #[arg(long, default_value = "bench/references")]
+    references: PathBuf,
+    /// Output folder: bench.json and bench.svg.
+    #[arg(short, long, default_value = "bench-results")]
+    output: PathBuf,
+    /// A previous bench.json, drawn dashed in the plot ("before").
+    #[arg(long, value_name = "JSON")]
+    before: Option<PathBuf>,
+    /// Skip the ray, photon and query micro-benchmarks.
+    #[arg(long)]
+    no_micro: bool,
+    /// Only the micro-benchmarks.
+    #[arg(long, conflicts_with = "no_micro")]
+    micro_only: bool,
+    /// A label for this record (e.g. a commit), shown in the plot's title.
+    #[arg(long, default_value = "")]
+    label: String,
+    /// Worker threads for the renders (default: one per core).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// The record `bench.json` holds.
+#[derive(Serialize, Deserialize)]
+struct Record {
+    photon_version: String,
+    label: String,
+    threads: usize,
+    runs: Vec<RunRecord>,
+    #[serde(default)]
+    crossings: Vec<CrossingRecord>,
+    #[serde(default)]
+    micro: Option<serde_json::Value>,
+}
+
+/// [`Run`] as stored (owned, deserialisable, so an old record can be read back for `--before`).
+#[derive(Serialize, Deserialize)]
+struct RunRecord {
+    scene: String,
+    integrator: String,
+    budget: f64,
+    seconds: f64,
+    samples: String,
+    rel_mse: Option<f64>,
+    rmse: Option<f64>,
+    crop_rmse: Option<f64>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct CrossingRecord {
+    scene: String,
+    integrator: String,
+    rel_mse: f64,
+    seconds: Option<f64>,
+}
+
+impl From<&Run> for RunRecord {
+    fn from(r: &Run) -> Self {
+        Self {
+            scene: r.scene.clone(),
+            integrator: r.integrator.clone(),
+            budget: r.budget,
+            seconds: r.seconds,
+            samples: r.samples.clone(),
+            rel_mse: r.rel_mse,
+            rmse: r.rmse,
+            crop_rmse: r.crop_rmse,
+        }
+    }
+}
+
+impl From<&RunRecord> for Run {
+    fn from(r: &RunRecord) -> Self {
+        Self {
+            scene: r.scene.clone(),
+            integrator: r.integrator.clone(),
+            budget: r.budget,
+            seconds: r.seconds,
+            samples: r.samples.clone(),
+            rel_mse: r.rel_mse,
+            rmse: r.rmse,
+            crop_rmse: r.crop_rmse,
+        }
+    }
+}
+
+impl From<&Crossing> for CrossingRecord {
+    fn from(c: &Crossing) -> Self {
+        Self {
+            scene: c.scene.clone(),
+            integrator: c.integrator.clone(),
+            rel_mse: c.rel_mse,
+            seconds: c.seconds,
+        }
+    }
+}
+
+fn parse_integrators(names: &[String]) -> Result<Vec<IntegratorKind>> {
+    names
+        .iter()
+        .map(|n| {
+            IntegratorKind::from_name(n).with_context(|| {
+                format!("--integrators: '{n}' is not one of photon, direct, path, sppm, ppm")
+            })
+        })
+        .collect()
+}
+
+pub fn run(a: &BenchArgs) -> Result<()> {
+    let integrators = parse_integrators(&a.integrators)?;
+    if let Some(b) = a.budgets.iter().find(|b| !(**b > 0.0 && **b <= 86_400.0)) {
+        bail!("--budgets: {b} is not a number of seconds in (0, 86400]");
+    }
+    let before: Vec<Run> = match &a.before {
+        Some(path) => read_record(path)?.runs.iter().map(Run::from).collect(),
+        None => Vec::new(),
+    };
+    let pool = super::thread_pool(a.threads)?;
+    let mut runs = Vec::new();
+    if !a.micro_only {
+        for name in &a.scenes {
+            runs.extend(bench_scene(a, name, &integrators, &pool)?);
+        }
+    }
+    let micro = if a.no_micro {
+        None
+    } else {
+        Some(micro_benchmarks()?)
+    };
+    let crossings = bench::crossings(&runs);
+    print_crossings(&crossings);
+    let record = Record {
+        photon_version: env!("CARGO_PKG_VERSION").into(),
+        label: a.label.clone(),
+        threads: pool.current_num_threads(),
+        runs: runs.iter().map(RunRecord::from).collect(),
+        crossings: crossings.iter().map(CrossingRecord::from).collect(),
+        micro,
+    };
+    std::fs::create_dir_all(&a.output)
+        .with_context(|| format!("creating {}", a.output.display()))?;
+    let json = serde_json::to_string_pretty(&record)? + "\n";
+    write_text(&a.output.join("bench.json"), &json)?;
+    if !runs.is_empty() {
+        let title = format!(
+            "photon bench {}{}: relMSE against wall-clock seconds, {} threads{}",
+            record.photon_version,
+            if a.label.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", a.label)
+            },
+            record.threads,
+            if before.is_empty() {
+                ""
+            } else {
+                "; dashed: before"
+            }
+        );
+        write_text(
+            &a.output.join("bench.svg"),
+            &plot::svg(&title, &runs, &before),
+        )?;
+    }
+    eprintln!(
+        "photon: wrote {}/bench.json and bench.svg",
+        a.output.display()
+    );
+    Ok(())
+}
+
+fn bench_scene(
+    a: &BenchArgs,
+    name: &str,
+    integrators: &[IntegratorKind],
+    pool: &rayon::ThreadPool,
+) -> Result<Vec<Run>> {
+    let (scene, desc) = bench::load(name).with_context(|| format!("loading {name}"))?;
+    let crop = BenchScene::standard()
+        .into_iter()
+        .find(|s| s.name == name)
+        .and_then(|s| s.crop);
+    let stem = Path::new(name)
+        .file_stem()
+        .map_or(name.to_string(), |s| s.to_string_lossy().into_owned());
+    let reference_path = a.references.join(format!("{stem}.exr"));
+    let reference = if reference_path.exists() {
+        let r = read_image(&reference_path)
+            .with_context(|| format!("reading {}", reference_path.display()))?;
+        bench::check_reference(&r, &desc, name)?;
+        Some(r)
+    } else {
+        eprintln!(
+            "photon: no reference {} for {name}: times only",
+            reference_path.display()
+        );
+        None
+    };
+    let mut runs = Vec::new();
+    for &integrator in integrators {
+        for &budget in &a.budgets {
+            let (image, seconds, samples) =
+                bench::run_at_budget(&scene, &desc, integrator, budget, pool)?;
+            let [rel_mse, rmse, crop_rmse] = bench::measure(&image, reference.as_ref(), crop);
+            let show = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.5}"));
+            eprintln!(
+                "photon: {name:<8} {:<6} budget {budget:>5} s: {seconds:6.2} s {samples:<12} relMSE {}  RMSE {}  crop RMSE {}",
+                integrator.name(),
+                show(rel_mse),
+                show(rmse),
+                show(crop_rmse)
+            );
+            runs.push(Run {
+                scene: name.to_string(),
+                integrator: integrator.name().to_string(),
+                budget,
+                seconds,
+                samples,
+                rel_mse,
+                rmse,
+                crop_rmse,
+            });
+        }
+    }
+    Ok(runs)
+}
+
+fn micro_benchmarks() -> Result<serde_json::Value> {
+    let rays = micro::rays()?;
+    eprintln!(
+        "photon: rays, 1 thread: camera {:.2}, bounce {:.2}, shadow {:.2} M/s; {} threads: camera {:.2}, bounce {:.2} M/s ({} triangles, build {:.0} ms)",
+        rays.camera_one_thread,
+        rays.bounce_one_thread,
+        rays.shadow_one_thread,
+        rays.threads,
+        rays.camera_all_threads,
+        rays.bounce_all_threads,
+        rays.triangles,
+        rays.build_ms
+    );
+    let mut photons = Vec::new();
+    for name in ["cornell", "seed"] {
+        let p = micro::photons(name)?;
+        eprintln!(
+            "photon: photons, {name}: {:.2} M emitted/s on {} threads ({} stored of 1 M)",
+            p.emitted_per_s, p.threads, p.stored
+        );
+        photons.push(p);
+    }
+    let q = micro::queries()?;
+    eprintln!(
+        "photon: queries, 1 thread, {} photons, r {:.4} ({:.0} photons/query): grid {:.2} M/s, kd-tree {:.2} M/s, kd 50-nearest {:.2} M/s (builds: grid {:.0} ms, kd {:.0} ms)",
+        q.photons,
+        q.radius,
+        q.photons_per_query,
+        q.grid_radius,
+        q.kd_radius,
+        q.kd_nearest_50,
+        q.grid_build_ms,
+        q.kd_build_ms
+    );
+    Ok(serde_json::json!({ "rays": rays, "photons": photons, "queries": q }))
+}
+
+fn print_crossings(crossings: &[Crossing]) {
+    if crossings.is_empty() {
+        return;
+    }
+    outln!("| scene | integrator | relMSE 0.01 | relMSE 0.003 | relMSE 0.001 |");
+    outln!("|---|---|---:|---:|---:|");
+    for chunk in crossings.chunks(bench::THRESHOLDS.len()) {
+        let cells: Vec<String> = chunk
+            .iter()
+            .map(|c| {
+                c.seconds
+                    .map_or("not reached".into(), |s| format!("{s:.2} s"))
+            })
+            .collect();
+        outln!(
+            "| {} | {} | {} |",
+            chunk[0].scene,
+            chunk[0].integrator,
+            cells.join(" | ")
+        );
+    }
+}
+
+fn read_record(path: &Path) -> Result<Record> {
+    let text = photon::io::input::read_text(path)
+        .with_context(|| format!("reading {}", path.display()))?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("{}: not a bench.json record", path.display()))
+}
+
+fn write_text(path: &Path, text: &str) -> Result<()> {
+    write_atomically(path, |tmp| {
+        std::fs::write(tmp, text).map_err(|source| photon::Error::Write {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+    .with_context(|| format!("writing {}", path.display()))
+}
