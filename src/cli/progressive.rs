@@ -93,6 +93,7 @@ pub fn run(
     let (mut last_snapshot, mut last_checkpoint) = (start, start);
     let mut photons = 0u64;
     let mut rays = 0u64;
+    let mut split = photon::progressive::PassSeconds::default();
     let info = RunInfo {
         output: Some(std::path::absolute(&out.image).unwrap_or_else(|_| out.image.clone())),
         target_passes: target,
@@ -116,6 +117,9 @@ pub fn run(
         let stats = pool.install(|| state.run_pass(scene))?;
         photons += stats.photons_emitted;
         rays += stats.rays.total();
+        split.camera += stats.seconds.camera;
+        split.photons += stats.seconds.photons;
+        split.gather += stats.seconds.gather;
         let passes = state.next_pass();
         if target.is_none() {
             bar.set_length(passes + 1);
@@ -164,6 +168,10 @@ pub fn run(
         } else {
             format!(" (checkpoint {})", out.checkpoint.display())
         }
+    );
+    eprintln!(
+        "photon: passes spent {:.2} s on camera paths, {:.2} s tracing photons, {:.2} s gathering",
+        split.camera, split.photons, split.gather
     );
     if interrupted {
         eprintln!(

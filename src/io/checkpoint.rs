@@ -216,6 +216,7 @@ pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
         passes: hd.passes,
         sppm: Vec::new(),
         ppm: Vec::new(),
+        buffers: Default::default(),
     };
     match method {
         Method::Sppm => {

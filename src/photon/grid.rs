@@ -8,21 +8,32 @@
 
 use super::record::Photon;
 use crate::math::Vec3;
-use bytemuck::Zeroable;
 
 /// Cells a query may visit one by one; a larger query reads every photon instead (it is then
 /// a scan, but still exact).
 const MAX_QUERY_CELLS: usize = 4096;
 
+/// Anything a grid can hold: it has a position.
+pub trait Located: Copy + Default {
+    fn location(&self) -> Vec3;
+}
+
+impl Located for Photon {
+    #[inline]
+    fn location(&self) -> Vec3 {
+        self.position()
+    }
+}
+
 /// Photons in buckets of a hashed uniform grid: bucket `b` holds
 /// `photons[starts[b]..starts[b + 1]]`.
 #[derive(Clone, Debug, Default)]
-pub struct PhotonGrid {
+pub struct PhotonGrid<T = Photon> {
     lower: Vec3,
     inv_cell: f32,
     mask: u64,
     starts: Vec<u32>,
-    photons: Vec<Photon>,
+    photons: Vec<T>,
 }
 
 /// Per-thread memory of grid queries, so that a query allocates nothing once it is warm.
@@ -31,14 +42,14 @@ pub struct QueryScratch {
     buckets: Vec<u32>,
 }
 
-impl PhotonGrid {
+impl<T: Located> PhotonGrid<T> {
     /// Grid of `photons` with cubic cells of side `cell` (a query of radius r ≤ cell/2 visits
     /// at most 8 cells). As many buckets as photons, rounded up to a power of two.
-    pub fn build(photons: Vec<Photon>, cell: f32) -> Self {
+    pub fn build(photons: Vec<T>, cell: f32) -> Self {
         let buckets = photons.len().max(1).next_power_of_two();
         let lower = photons
             .iter()
-            .fold(Vec3::splat(f32::INFINITY), |m, p| m.min(p.position()));
+            .fold(Vec3::splat(f32::INFINITY), |m, p| m.min(p.location()));
         let cell = if cell.is_finite() && cell > 0.0 {
             cell
         } else {
@@ -53,7 +64,7 @@ impl PhotonGrid {
         };
         let keys: Vec<u32> = photons
             .iter()
-            .map(|p| grid.bucket(grid.cell_of(p.position())))
+            .map(|p| grid.bucket(grid.cell_of(p.location())))
             .collect();
         for &k in &keys {
             grid.starts[k as usize + 1] += 1;
@@ -62,7 +73,7 @@ impl PhotonGrid {
             grid.starts[b + 1] += grid.starts[b];
         }
         let mut next = grid.starts.clone();
-        let mut sorted = vec![Photon::zeroed(); photons.len()];
+        let mut sorted = vec![T::default(); photons.len()];
         for (p, &k) in photons.iter().zip(&keys) {
             sorted[next[k as usize] as usize] = *p;
             next[k as usize] += 1;
@@ -80,7 +91,7 @@ impl PhotonGrid {
     }
 
     /// The photons, in bucket order.
-    pub fn photons(&self) -> &[Photon] {
+    pub fn photons(&self) -> &[T] {
         &self.photons
     }
 
@@ -106,12 +117,12 @@ impl PhotonGrid {
         q: Vec3,
         r: f32,
         scratch: &mut QueryScratch,
-        f: &mut impl FnMut(&Photon, f32),
+        f: &mut impl FnMut(&T, f32),
     ) {
         let r2 = r * r;
-        let mut visit = |photons: &[Photon]| {
+        let mut visit = |photons: &[T]| {
             for p in photons {
-                let d2 = (p.position() - q).length_squared();
+                let d2 = (p.location() - q).length_squared();
                 if d2 <= r2 {
                     f(p, d2);
                 }
@@ -126,14 +137,19 @@ impl PhotonGrid {
         }
         let buckets = &mut scratch.buckets;
         buckets.clear();
+        // A few cells: skip repeats as they come; many: sort them out at the end.
+        let few = cells <= 32.0;
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
-                    buckets.push(self.bucket([x, y, z]));
+                    let b = self.bucket([x, y, z]);
+                    if !few || !buckets.contains(&b) {
+                        buckets.push(b);
+                    }
                 }
             }
         }
-        if buckets.len() > 1 {
+        if !few {
             buckets.sort_unstable();
             buckets.dedup();
         }
@@ -211,7 +227,7 @@ mod tests {
     #[test]
     fn empty_and_degenerate_grids_answer_nothing_or_everything() {
         let mut scratch = QueryScratch::default();
-        let empty = PhotonGrid::build(Vec::new(), 0.1);
+        let empty: PhotonGrid = PhotonGrid::build(Vec::new(), 0.1);
         empty.for_each_within(Vec3::ZERO, 1.0, &mut scratch, &mut |_, _| panic!("empty"));
         let photons = cloud(100, 4);
         for cell in [0.0, f32::NAN, f32::INFINITY, 1e-30] {

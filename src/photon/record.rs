@@ -19,7 +19,7 @@ use bytemuck::{Pod, Zeroable};
 use half::f16;
 
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Photon {
     pub position: [f32; 3],
     power: [u16; 3],
@@ -61,6 +61,27 @@ impl Channel {
             Channel::Green => 2,
             Channel::Blue => 3,
         }
+    }
+}
+
+/// A progressive pass's photon, at full precision for the pass's own gathers (48 bytes, never
+/// saved): reading it needs no decoding, and glossy lobes see its exact direction. The stored
+/// [`Photon`] halves that with octahedral directions and half-float power.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PassPhoton {
+    pub position: Vec3,
+    /// Unit surface normal on the side the photon arrived from.
+    pub normal: Vec3,
+    /// Unit direction toward where the photon came from.
+    pub incoming: Vec3,
+    /// Power relative to the pass's scale.
+    pub power: Rgb,
+}
+
+impl super::grid::Located for PassPhoton {
+    #[inline]
+    fn location(&self) -> Vec3 {
+        self.position
     }
 }
 

@@ -7,6 +7,8 @@ mod rng;
 
 pub use rng::{Rng, mix64};
 
+pub mod halton;
+
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI};
 
