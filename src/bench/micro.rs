@@ -94,6 +94,11 @@ const CAMERA_POSITION: Vec3 = Vec3::new(0.0, 0.3, -3.5);
 /// The ray benchmark's scene: a bumpy sphere of 102,000 triangles in a closed box (so every
 /// bounce ray hits something), and the triangle count.
 pub fn ray_scene() -> Result<(Scene, usize)> {
+    ray_scene_of(256, 200)
+}
+
+/// [`ray_scene`] with a sphere of `2·n_phi·(n_theta−1)` triangles.
+pub fn ray_scene_of(n_theta: u32, n_phi: u32) -> Result<(Scene, usize)> {
     let mut b = SceneBuilder::new("bench");
     let camera = CameraDesc {
         position: CAMERA_POSITION,
@@ -105,7 +110,7 @@ pub fn ray_scene() -> Result<(Scene, usize)> {
     let m = b.material(Material::Lambertian(Lambertian {
         albedo: Rgb::splat(0.5),
     }));
-    let (p, t) = bumpy_sphere(256, 200);
+    let (p, t) = bumpy_sphere(n_theta, n_phi);
     let triangles = t.len() + 12;
     b.mesh(&p, &t, Affine3A::IDENTITY, m, None)?;
     let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z) * 4.0;
@@ -156,8 +161,13 @@ fn best_of_three(mut f: impl FnMut()) -> f64 {
 /// Camera rays (a pinhole grid, coherent), bounce rays (from the camera rays' hits in
 /// cosine-distributed directions, as a path tracer's) and shadow rays (any hit, length 1).
 pub fn rays() -> Result<RayRates> {
+    rays_on(256, 200)
+}
+
+/// [`rays`] on a sphere of `2·n_phi·(n_theta−1)` triangles.
+pub fn rays_on(n_theta: u32, n_phi: u32) -> Result<RayRates> {
     let start = Instant::now();
-    let (scene, triangles) = ray_scene()?;
+    let (scene, triangles) = ray_scene_of(n_theta, n_phi)?;
     let build_ms = start.elapsed().as_secs_f64() * 1e3;
     let camera = Camera::new(&scene.camera, 1024, 1024).expect("the bench camera is valid");
     let camera_rays: Vec<Ray> = (0..1024u32 * 1024)
