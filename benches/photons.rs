@@ -19,8 +19,12 @@ fn main() {
         q.photons, q.queries, q.radius, q.photons_per_query
     );
     println!(
-        "  radius: grid {:.2} M/s, kd-tree {:.2} M/s; 50-nearest (kd-tree) {:.2} M/s",
+        "  radius, random order: grid {:.2} M/s, kd-tree {:.2} M/s; 50-nearest (kd-tree) {:.2} M/s",
         q.grid_radius, q.kd_radius, q.kd_nearest_50
+    );
+    println!(
+        "  radius, spatial order: grid {:.2} M/s, kd-tree {:.2} M/s",
+        q.grid_radius_coherent, q.kd_radius_coherent
     );
     println!(
         "  builds: grid {:.0} ms, kd-tree {:.0} ms",

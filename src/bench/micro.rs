@@ -50,8 +50,12 @@ pub struct QueryRates {
     pub photons_per_query: f64,
     pub kd_build_ms: f64,
     pub grid_build_ms: f64,
+    /// Queries at random photons.
     pub kd_radius: f64,
     pub grid_radius: f64,
+    /// Queries in the photons' spatial order (as neighbouring pixels ask).
+    pub kd_radius_coherent: f64,
+    pub grid_radius_coherent: f64,
     pub kd_nearest_50: f64,
 }
 
@@ -268,22 +272,44 @@ pub fn queries() -> Result<QueryRates> {
     let grid = PhotonGrid::build(map.photons().to_vec(), 2.0 * r);
     let grid_build_ms = t.elapsed().as_secs_f64() * 1e3;
     let rate = |secs: f64| queries.len() as f64 / secs / 1e6;
-    let mut found = 0usize;
-    let kd_radius = rate(best_of_three(|| {
-        found = 0;
-        for &q in &queries {
-            map.for_each_within(q, r, &mut |_, _| found += 1);
+    // Radius queries/s of the kd-tree and the grid over `set`, and the photons found (the
+    // two must agree; using the count also keeps the loops from being optimised away).
+    let radius_rates = |set: &[Vec3]| -> Result<(f64, f64, usize)> {
+        let mut found = 0usize;
+        let kd = best_of_three(|| {
+            found = 0;
+            for &q in set {
+                map.for_each_within(q, r, &mut |_, _| found += 1);
+            }
+            std::hint::black_box(found);
+        });
+        let mut scratch = QueryScratch::default();
+        let mut grid_found = 0usize;
+        let on_grid = best_of_three(|| {
+            grid_found = 0;
+            for &q in set {
+                grid.for_each_within(q, r, &mut scratch, &mut |_, _| grid_found += 1);
+            }
+            std::hint::black_box(grid_found);
+        });
+        if grid_found != found {
+            return Err(crate::error::Error::InvalidSetting(format!(
+                "the grid found {grid_found} photons where the kd-tree found {found}"
+            )));
         }
-    }));
-    let mut scratch = QueryScratch::default();
-    let mut grid_found = 0usize;
-    let grid_radius = rate(best_of_three(|| {
-        grid_found = 0;
-        for &q in &queries {
-            grid.for_each_within(q, r, &mut scratch, &mut |_, _| grid_found += 1);
-        }
-    }));
-    debug_assert_eq!(found, grid_found);
+        let per_s = |secs: f64| set.len() as f64 / secs / 1e6;
+        Ok((per_s(kd), per_s(on_grid), found))
+    };
+    let (kd_radius, grid_radius, found) = radius_rates(&queries)?;
+    // In the photons' own (kd-tree) order, as neighbouring pixels ask.
+    let step = (map.len() / queries.len()).max(1);
+    let coherent: Vec<Vec3> = map
+        .photons()
+        .iter()
+        .step_by(step)
+        .map(|p| p.position())
+        .collect();
+    let (kd_radius_coherent, grid_radius_coherent, _) = radius_rates(&coherent)?;
     let kd_nearest_50 = rate(best_of_three(|| {
         let n: usize = queries
             .iter()
@@ -300,6 +326,8 @@ pub fn queries() -> Result<QueryRates> {
         grid_build_ms,
         kd_radius,
         grid_radius,
+        kd_radius_coherent,
+        grid_radius_coherent,
         kd_nearest_50,
     })
 }

@@ -271,12 +271,14 @@ fn micro_benchmarks() -> Result<serde_json::Value> {
     }
     let q = micro::queries()?;
     eprintln!(
-        "photon: queries, 1 thread, {} photons, r {:.4} ({:.0} photons/query): grid {:.2} M/s, kd-tree {:.2} M/s, kd 50-nearest {:.2} M/s (builds: grid {:.0} ms, kd {:.0} ms)",
+        "photon: queries, 1 thread, {} photons, r {:.4} ({:.0} photons/query): random order: grid {:.2} M/s, kd-tree {:.2} M/s; spatial order: grid {:.2} M/s, kd-tree {:.2} M/s; kd 50-nearest {:.2} M/s (builds: grid {:.0} ms, kd {:.0} ms)",
         q.photons,
         q.radius,
         q.photons_per_query,
         q.grid_radius,
         q.kd_radius,
+        q.grid_radius_coherent,
+        q.kd_radius_coherent,
         q.kd_nearest_50,
         q.grid_build_ms,
         q.kd_build_ms

@@ -102,11 +102,13 @@ impl<T: Located> PhotonGrid<T> {
     }
 
     fn bucket(&self, c: [i64; 3]) -> u32 {
-        // Teschner et al. 2003, "Optimized Spatial Hashing for Collision Detection".
+        // Teschner et al.'s primes (2003), then a multiply–xorshift so that the low bits the
+        // mask keeps depend on every bit of the three coordinates.
         let h = (c[0] as u64).wrapping_mul(73_856_093)
             ^ (c[1] as u64).wrapping_mul(19_349_663)
             ^ (c[2] as u64).wrapping_mul(83_492_791);
-        (h & self.mask) as u32
+        let h = (h ^ (h >> 29)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        ((h ^ (h >> 32)) & self.mask) as u32
     }
 
     /// Visit every photon within distance `r` of `q` as `f(photon, d²)`. Each photon is
