@@ -59,11 +59,11 @@ impl ProgressiveConfig {
                 self.width, self.height
             ));
         }
-        // Per pixel: SPPM's state (r², N, τ, direct: 8 × f64) or PPM's sums (3 × i128),
-        // plus the image.
+        // Per pixel: SPPM's state (r², N, τ, direct: 8 × f64) or PPM's sums (3 × i128), the
+        // image, and the pass's visible-point slot.
         let per_pixel = match self.method {
-            Method::Sppm => 64 + 12,
-            Method::Ppm => 48 + 12,
+            Method::Sppm => 64 + 12 + SLOT_BYTES,
+            Method::Ppm => 48 + 12 + SLOT_BYTES,
         };
         let what = match self.method {
             Method::Sppm => "an SPPM render",
@@ -341,6 +341,10 @@ impl ProgressiveState {
         Ok(out)
     }
 }
+
+/// Bytes of a pixel's visible-point slot, for the memory check.
+const SLOT_BYTES: u64 = 136;
+const _: () = assert!(std::mem::size_of::<Option<PassPoint>>() as u64 <= SLOT_BYTES);
 
 /// A pixel's visible point in this pass and its squared gather radius.
 #[derive(Clone, Copy, Debug)]
