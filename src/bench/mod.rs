@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::render_job::{IntegratorKind, RenderJob, RenderOptions};
 use crate::scene::Scene;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -48,7 +48,7 @@ impl BenchScene {
 }
 
 /// One render of the set.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Run {
     pub scene: String,
     pub integrator: String,
@@ -63,7 +63,7 @@ pub struct Run {
 }
 
 /// When an integrator's relMSE first fell to a threshold (interpolated in log–log between runs).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Crossing {
     pub scene: String,
     pub integrator: String,
@@ -192,6 +192,21 @@ pub fn check_reference(reference: &Image, desc: &SceneDesc, name: &str) -> Resul
     Ok(())
 }
 
+/// A run with only its error and time, for tests.
+#[cfg(test)]
+pub(crate) fn test_run(scene: &str, integrator: &str, seconds: f64, rel_mse: f64) -> Run {
+    Run {
+        scene: scene.into(),
+        integrator: integrator.into(),
+        budget: seconds,
+        seconds,
+        samples: String::new(),
+        rel_mse: Some(rel_mse),
+        rmse: None,
+        crop_rmse: None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -208,16 +223,7 @@ mod tests {
 
     #[test]
     fn crossings_cover_each_scene_and_integrator_once_per_threshold() {
-        let run = |integrator: &str, seconds: f64, e: f64| Run {
-            scene: "s".into(),
-            integrator: integrator.into(),
-            budget: seconds,
-            seconds,
-            samples: String::new(),
-            rel_mse: Some(e),
-            rmse: None,
-            crop_rmse: None,
-        };
+        let run = |integrator: &str, seconds: f64, e: f64| test_run("s", integrator, seconds, e);
         let runs = [
             run("ppm", 4.0, 0.002),
             run("ppm", 1.0, 0.02),

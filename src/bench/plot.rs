@@ -170,19 +170,7 @@ fn escape(t: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn run(scene: &str, integrator: &str, seconds: f64, e: f64) -> Run {
-        Run {
-            scene: scene.into(),
-            integrator: integrator.into(),
-            budget: seconds,
-            seconds,
-            samples: String::new(),
-            rel_mse: Some(e),
-            rmse: None,
-            crop_rmse: None,
-        }
-    }
+    use crate::bench::test_run as run;
 
     /// The plot has a panel per scene, a line per integrator (dashed for the record before),
     /// and points placed by log time: a later run sits further right.

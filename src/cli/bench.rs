@@ -48,73 +48,11 @@ struct Record {
     photon_version: String,
     label: String,
     threads: usize,
-    runs: Vec<RunRecord>,
+    runs: Vec<Run>,
     #[serde(default)]
-    crossings: Vec<CrossingRecord>,
+    crossings: Vec<Crossing>,
     #[serde(default)]
     micro: Option<serde_json::Value>,
-}
-
-/// [`Run`] as stored (owned, deserialisable, so an old record can be read back for `--before`).
-#[derive(Serialize, Deserialize)]
-struct RunRecord {
-    scene: String,
-    integrator: String,
-    budget: f64,
-    seconds: f64,
-    samples: String,
-    rel_mse: Option<f64>,
-    rmse: Option<f64>,
-    crop_rmse: Option<f64>,
-}
-
-#[derive(Serialize, Deserialize)]
-struct CrossingRecord {
-    scene: String,
-    integrator: String,
-    rel_mse: f64,
-    seconds: Option<f64>,
-}
-
-impl From<&Run> for RunRecord {
-    fn from(r: &Run) -> Self {
-        Self {
-            scene: r.scene.clone(),
-            integrator: r.integrator.clone(),
-            budget: r.budget,
-            seconds: r.seconds,
-            samples: r.samples.clone(),
-            rel_mse: r.rel_mse,
-            rmse: r.rmse,
-            crop_rmse: r.crop_rmse,
-        }
-    }
-}
-
-impl From<&RunRecord> for Run {
-    fn from(r: &RunRecord) -> Self {
-        Self {
-            scene: r.scene.clone(),
-            integrator: r.integrator.clone(),
-            budget: r.budget,
-            seconds: r.seconds,
-            samples: r.samples.clone(),
-            rel_mse: r.rel_mse,
-            rmse: r.rmse,
-            crop_rmse: r.crop_rmse,
-        }
-    }
-}
-
-impl From<&Crossing> for CrossingRecord {
-    fn from(c: &Crossing) -> Self {
-        Self {
-            scene: c.scene.clone(),
-            integrator: c.integrator.clone(),
-            rel_mse: c.rel_mse,
-            seconds: c.seconds,
-        }
-    }
 }
 
 fn parse_integrators(names: &[String]) -> Result<Vec<IntegratorKind>> {
@@ -134,7 +72,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         bail!("--budgets: {b} is not a number of seconds in (0, 86400]");
     }
     let before: Vec<Run> = match &a.before {
-        Some(path) => read_record(path)?.runs.iter().map(Run::from).collect(),
+        Some(path) => read_record(path)?.runs,
         None => Vec::new(),
     };
     let pool = super::thread_pool(a.threads)?;
@@ -155,15 +93,15 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         photon_version: env!("CARGO_PKG_VERSION").into(),
         label: a.label.clone(),
         threads: pool.current_num_threads(),
-        runs: runs.iter().map(RunRecord::from).collect(),
-        crossings: crossings.iter().map(CrossingRecord::from).collect(),
+        runs,
+        crossings,
         micro,
     };
     std::fs::create_dir_all(&a.output)
         .with_context(|| format!("creating {}", a.output.display()))?;
     let json = serde_json::to_string_pretty(&record)? + "\n";
     write_text(&a.output.join("bench.json"), &json)?;
-    if !runs.is_empty() {
+    if !record.runs.is_empty() {
         let title = format!(
             "photon bench {}{}: relMSE against wall-clock seconds, {} threads{}",
             record.photon_version,
@@ -181,7 +119,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         );
         write_text(
             &a.output.join("bench.svg"),
-            &plot::svg(&title, &runs, &before),
+            &plot::svg(&title, &record.runs, &before),
         )?;
     }
     eprintln!(
