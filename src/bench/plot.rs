@@ -102,6 +102,20 @@ pub fn svg(title: &str, runs: &[Run], before: &[Run]) -> String {
                 y - 3.0
             );
         }
+        // The legend sits in the lower left, where error-against-time curves never go.
+        let entries = [before, runs]
+            .iter()
+            .map(|set| {
+                let mut names: Vec<&str> = set
+                    .iter()
+                    .filter(|r| r.scene == *scene)
+                    .map(|r| r.integrator.as_str())
+                    .collect();
+                names.sort_unstable();
+                names.dedup();
+                names.len()
+            })
+            .sum::<usize>();
         let mut legend = 0;
         for (set, dashed) in [(before, true), (runs, false)] {
             let mut integrators: Vec<&str> = Vec::new();
@@ -142,7 +156,7 @@ pub fn svg(title: &str, runs: &[Run], before: &[Run]) -> String {
                 } else {
                     integrator.to_string()
                 };
-                let ly = y0 + 14.0 + 14.0 * f64::from(legend);
+                let ly = y0 + PANEL_H - 8.0 - 14.0 * (entries - 1 - legend) as f64;
                 let _ = writeln!(
                     s,
                     r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="{c}" stroke-width="2"{dash}/><text x="{}" y="{ly}">{}</text>"#,

@@ -34,6 +34,9 @@ pub struct BenchArgs {
     /// Only the micro-benchmarks.
     #[arg(long, conflicts_with = "no_micro")]
     micro_only: bool,
+    /// Render nothing: draw the plot of this bench.json (with --before) into OUT/bench.svg.
+    #[arg(long, value_name = "JSON", conflicts_with_all = ["no_micro", "micro_only"])]
+    replot: Option<PathBuf>,
     /// A label for this record (e.g. a commit), shown in the plot's title.
     #[arg(long, default_value = "")]
     label: String,
@@ -75,6 +78,18 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         Some(path) => read_record(path)?.runs,
         None => Vec::new(),
     };
+    if let Some(path) = &a.replot {
+        let record = read_record(path)?;
+        std::fs::create_dir_all(&a.output)
+            .with_context(|| format!("creating {}", a.output.display()))?;
+        let title = plot_title(&record, !before.is_empty());
+        write_text(
+            &a.output.join("bench.svg"),
+            &plot::svg(&title, &record.runs, &before),
+        )?;
+        eprintln!("photon: wrote {}/bench.svg", a.output.display());
+        return Ok(());
+    }
     let pool = super::thread_pool(a.threads)?;
     let mut runs = Vec::new();
     if !a.micro_only {
@@ -102,21 +117,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let json = serde_json::to_string_pretty(&record)? + "\n";
     write_text(&a.output.join("bench.json"), &json)?;
     if !record.runs.is_empty() {
-        let title = format!(
-            "photon bench {}{}: relMSE against wall-clock seconds, {} threads{}",
-            record.photon_version,
-            if a.label.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", a.label)
-            },
-            record.threads,
-            if before.is_empty() {
-                ""
-            } else {
-                "; dashed: before"
-            }
-        );
+        let title = plot_title(&record, !before.is_empty());
         write_text(
             &a.output.join("bench.svg"),
             &plot::svg(&title, &record.runs, &before),
@@ -245,6 +246,20 @@ fn print_crossings(crossings: &[Crossing]) {
             cells.join(" | ")
         );
     }
+}
+
+fn plot_title(record: &Record, with_before: bool) -> String {
+    format!(
+        "photon bench {}{}: relMSE against wall-clock seconds, {} threads{}",
+        record.photon_version,
+        if record.label.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", record.label)
+        },
+        record.threads,
+        if with_before { "; dashed: before" } else { "" }
+    )
 }
 
 fn read_record(path: &Path) -> Result<Record> {
