@@ -77,6 +77,24 @@ fn bench_records_errors_against_the_reference_and_plots_them() {
     let svg = std::fs::read_to_string(dir.join("second/bench.svg")).expect("svg");
     assert_eq!(svg.matches("<polyline").count(), 2);
     assert!(svg.contains("ppm (before)"));
+
+    // A stored record replotted renders nothing and draws the same lines.
+    let o = photon(
+        &[
+            "bench",
+            "--replot",
+            "second/bench.json",
+            "--before",
+            "first/bench.json",
+            "-o",
+            "third",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    assert!(!dir.join("third/bench.json").exists());
+    let replotted = std::fs::read_to_string(dir.join("third/bench.svg")).expect("svg");
+    assert_eq!(replotted, svg);
 }
 
 #[test]
