@@ -186,14 +186,22 @@ def test_the_gil_is_released_while_rendering():
 
 def test_keyboard_interrupt_cancels_a_render_cleanly():
     import _thread
+    import signal
 
-    scene = photon.load_scene("cornell")
-    timer = threading.Timer(0.3, _thread.interrupt_main)
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        # Minutes of work if it were not cancelled.
-        photon.render(scene, integrator="path", spp=4096, width=256, height=256)
-    timer.join()
+    # A process started in the background of a non-interactive shell inherits SIGINT
+    # ignored, and then Python installs no handler and `interrupt_main` does nothing: the
+    # render would run its minutes to the end. Install Python's own handler for this test.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        scene = photon.load_scene("cornell")
+        timer = threading.Timer(0.3, _thread.interrupt_main)
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            # Minutes of work if it were not cancelled.
+            photon.render(scene, integrator="path", spp=4096, width=256, height=256)
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     # Photon is still usable afterwards.
     image, _ = photon.render(scene, integrator="path", spp=1, width=8, height=8)
     assert image.shape == (8, 8, 3)
