@@ -128,23 +128,27 @@ def compare(a, b):
     return out, float(overall[2]), float(overall[3])
 
 
-def test_the_photon_engine_renders_the_cornell_box_like_the_cli_renders_its_gltf(tmp_path):
+def assert_both_routes_agree(build, tmp_path):
+    """Build a scene with the add-on registered, render it through the engine and through
+    Blender's glTF export and the CLI: the same scene by two routes (the add-on's own camera
+    and light mapping; Blender's export of them), equal within the noise of the SPPM passes."""
     photon_blender.register()
     try:
-        engine_out, cli_out = render_both(cornell_box(), tmp_path)
+        engine_out, cli_out = render_both(build(), tmp_path)
     finally:
         photon_blender.unregister()
     table, rel_mse, mean_ratio = compare(engine_out, cli_out)
     print(table)
-    # Same scene, two routes (the add-on's own camera and light mapping; Blender's glTF
-    # export of them): equal within the noise of 24 SPPM passes.
     assert abs(mean_ratio - 1.0) < 0.03, table
     assert rel_mse < 0.02, table
 
 
+def test_the_photon_engine_renders_the_cornell_box_like_the_cli_renders_its_gltf(tmp_path):
+    assert_both_routes_agree(cornell_box, tmp_path)
+
+
 def test_spot_and_sun_lights_map_as_blenders_gltf_export_does(tmp_path):
-    photon_blender.register()
-    try:
+    def spot_and_sun():
         scene = cornell_box()
         # Only a spot light inside and the sun through the open front: no disk, no point.
         for obj in list(scene.objects):
@@ -155,13 +159,9 @@ def test_spot_and_sun_lights_map_as_blenders_gltf_export_does(tmp_path):
         spot.energy, spot.spot_size, spot.spot_blend = 60.0, math.radians(70), 0.15
         bpy.ops.object.light_add(type="SUN", rotation=(math.radians(70), 0, math.radians(15)))
         bpy.context.active_object.data.energy = 2.0
-        engine_out, cli_out = render_both(scene, tmp_path)
-    finally:
-        photon_blender.unregister()
-    table, rel_mse, mean_ratio = compare(engine_out, cli_out)
-    print(table)
-    assert abs(mean_ratio - 1.0) < 0.03, table
-    assert rel_mse < 0.02, table
+        return scene
+
+    assert_both_routes_agree(spot_and_sun, tmp_path)
 
 
 def test_an_area_light_emits_what_an_emissive_surface_of_its_radiance_does(tmp_path):
