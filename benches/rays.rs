@@ -3,18 +3,24 @@
 //! part of `photon bench`). Run with `cargo bench --bench rays`. Compare with
 //! ../shared/design/crates.md (Embree: 10 M camera, 4.0 M bounce rays/s on one core).
 
+//! Every engine compiled in is measured: our BVH, and Embree with `--features embree`.
+
+use photon::accel::RayEngine;
+
 fn main() {
-    let r = photon::bench::micro::rays().expect("the benchmark scene builds");
-    println!(
-        "mesh: {} triangles; scene + BVH build {:.0} ms",
-        r.triangles, r.build_ms
-    );
-    println!(
-        "1 thread:  camera {:.2} M rays/s, bounce {:.2} M rays/s, shadow (any hit) {:.2} M rays/s",
-        r.camera_one_thread, r.bounce_one_thread, r.shadow_one_thread
-    );
-    println!(
-        "{} threads: camera {:.2} M rays/s, bounce {:.2} M rays/s",
-        r.threads, r.camera_all_threads, r.bounce_all_threads
-    );
+    for engine in RayEngine::compiled() {
+        let r = photon::bench::micro::rays(engine).expect("the benchmark scene builds");
+        println!(
+            "{}: mesh of {} triangles; scene + acceleration build {:.0} ms",
+            r.engine, r.triangles, r.build_ms
+        );
+        println!(
+            "  1 thread:  camera {:.2} M rays/s, bounce {:.2} M rays/s, shadow (any hit) {:.2} M rays/s",
+            r.camera_one_thread, r.bounce_one_thread, r.shadow_one_thread
+        );
+        println!(
+            "  {} threads: camera {:.2} M rays/s, bounce {:.2} M rays/s",
+            r.threads, r.camera_all_threads, r.bounce_all_threads
+        );
+    }
 }

@@ -33,7 +33,8 @@ fn main() {
         let n_theta = ((n as f64 / 2.5).sqrt() as u32).max(4);
         let n_phi = (n as f64 / 2.0 / f64::from(n_theta - 1)) as u32;
         let before = resident_mb();
-        let r = photon::bench::micro::rays_on(n_theta, n_phi).expect("the scene builds");
+        let r = photon::bench::micro::rays_on(n_theta, n_phi, photon::accel::RayEngine::Best)
+            .expect("the scene builds");
         let memory = resident_mb() - before;
         println!(
             "| {} | {:.2} | {:.0} | {:.0} | {:.2} M | {:.2} M | {:.2} M |",

@@ -13,6 +13,50 @@ use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::{aabb::Aabb, cwbvh::CwBvh, ray::RayHit};
 
 mod binned_sah;
+#[cfg(feature = "embree")]
+pub mod embree;
+
+/// Which ray caster holds a scene's triangles: our BVH (obvhs' wide BVH over our own SAH
+/// build), or Intel Embree when the `embree` cargo feature is compiled in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RayEngine {
+    /// The best compiled in: Embree with the `embree` feature, else our BVH.
+    #[default]
+    Best,
+    Bvh,
+    Embree,
+}
+
+impl RayEngine {
+    /// Whether this build has Embree (the `embree` cargo feature).
+    pub const EMBREE_COMPILED: bool = cfg!(feature = "embree");
+
+    /// The engine `Best` stands for in this build; the others as they are.
+    pub fn resolved(self) -> Self {
+        match self {
+            Self::Best if Self::EMBREE_COMPILED => Self::Embree,
+            Self::Best => Self::Bvh,
+            other => other,
+        }
+    }
+
+    /// Every engine this build can run: our BVH, and Embree with the feature.
+    pub fn compiled() -> Vec<Self> {
+        let mut engines = vec![Self::Bvh];
+        if Self::EMBREE_COMPILED {
+            engines.push(Self::Embree);
+        }
+        engines
+    }
+
+    /// The name the CLI and benchmarks print.
+    pub fn name(self) -> &'static str {
+        match self.resolved() {
+            Self::Embree => "embree",
+            _ => "bvh",
+        }
+    }
+}
 
 /// The share of nodes that each of `obvhs`' reinsertion sweeps (Meister & Bittner 2022) moves
 /// to a cheaper place in the tree: its "medium" preset.

@@ -2,6 +2,7 @@
 //! photon queries/s in the setting of `../shared/design/crates.md` (1 M photons on the walls of
 //! a box, 500k queries of about 50 photons, one core), so figures compare with its table.
 
+use crate::accel::RayEngine;
 use crate::camera::{Camera, CameraDesc};
 use crate::description::builtin;
 use crate::error::Result;
@@ -20,6 +21,8 @@ use std::time::Instant;
 /// Ray casting on the benchmark mesh (M rays/s).
 #[derive(Clone, Debug, Serialize)]
 pub struct RayRates {
+    /// The ray engine measured ([`RayEngine::name`]).
+    pub engine: String,
     pub triangles: usize,
     /// Scene build including the BVH, milliseconds.
     pub build_ms: f64,
@@ -97,13 +100,14 @@ const CAMERA_POSITION: Vec3 = Vec3::new(0.0, 0.3, -3.5);
 
 /// The ray benchmark's scene: a bumpy sphere of 102,000 triangles in a closed box (so every
 /// bounce ray hits something), and the triangle count.
-pub fn ray_scene() -> Result<(Scene, usize)> {
-    ray_scene_of(256, 200)
+pub fn ray_scene(engine: RayEngine) -> Result<(Scene, usize)> {
+    ray_scene_of(256, 200, engine)
 }
 
 /// [`ray_scene`] with a sphere of `2·n_phi·(n_theta−1)` triangles.
-pub fn ray_scene_of(n_theta: u32, n_phi: u32) -> Result<(Scene, usize)> {
+pub fn ray_scene_of(n_theta: u32, n_phi: u32, engine: RayEngine) -> Result<(Scene, usize)> {
     let mut b = SceneBuilder::new("bench");
+    b.ray_engine(engine);
     let camera = CameraDesc {
         position: CAMERA_POSITION,
         look_at: Vec3::ZERO,
@@ -164,14 +168,14 @@ fn best_of_three(mut f: impl FnMut()) -> f64 {
 
 /// Camera rays (a pinhole grid, coherent), bounce rays (from the camera rays' hits in
 /// cosine-distributed directions, as a path tracer's) and shadow rays (any hit, length 1).
-pub fn rays() -> Result<RayRates> {
-    rays_on(256, 200)
+pub fn rays(engine: RayEngine) -> Result<RayRates> {
+    rays_on(256, 200, engine)
 }
 
 /// [`rays`] on a sphere of `2·n_phi·(n_theta−1)` triangles.
-pub fn rays_on(n_theta: u32, n_phi: u32) -> Result<RayRates> {
+pub fn rays_on(n_theta: u32, n_phi: u32, engine: RayEngine) -> Result<RayRates> {
     let start = Instant::now();
-    let (scene, triangles) = ray_scene_of(n_theta, n_phi)?;
+    let (scene, triangles) = ray_scene_of(n_theta, n_phi, engine)?;
     let build_ms = start.elapsed().as_secs_f64() * 1e3;
     let camera = Camera::new(&scene.camera, 1024, 1024).expect("the bench camera is valid");
     let camera_rays: Vec<Ray> = (0..1024u32 * 1024)
@@ -213,6 +217,7 @@ pub fn rays_on(n_theta: u32, n_phi: u32) -> Result<RayRates> {
     });
     let threads = rayon::current_num_threads();
     Ok(RayRates {
+        engine: scene.ray_engine().name().to_string(),
         triangles,
         build_ms,
         camera_one_thread: closest(&camera_rays, 1),

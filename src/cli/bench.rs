@@ -2,6 +2,7 @@
 //! `seed`, and the micro-benchmarks) as `OUT/bench.json` and `OUT/bench.svg`.
 
 use anyhow::{Context, Result, bail};
+use photon::accel::RayEngine;
 use photon::bench::{self, BenchScene, Crossing, Run, micro, plot};
 use photon::io::image::{read_image, write_atomically};
 use photon::render_job::IntegratorKind;
@@ -187,18 +188,23 @@ fn bench_scene(
 }
 
 fn micro_benchmarks() -> Result<serde_json::Value> {
-    let rays = micro::rays()?;
-    eprintln!(
-        "photon: rays, 1 thread: camera {:.2}, bounce {:.2}, shadow {:.2} M/s; {} threads: camera {:.2}, bounce {:.2} M/s ({} triangles, build {:.0} ms)",
-        rays.camera_one_thread,
-        rays.bounce_one_thread,
-        rays.shadow_one_thread,
-        rays.threads,
-        rays.camera_all_threads,
-        rays.bounce_all_threads,
-        rays.triangles,
-        rays.build_ms
-    );
+    let mut rays = Vec::new();
+    for engine in RayEngine::compiled() {
+        let r = micro::rays(engine)?;
+        eprintln!(
+            "photon: rays ({}), 1 thread: camera {:.2}, bounce {:.2}, shadow {:.2} M/s; {} threads: camera {:.2}, bounce {:.2} M/s ({} triangles, build {:.0} ms)",
+            r.engine,
+            r.camera_one_thread,
+            r.bounce_one_thread,
+            r.shadow_one_thread,
+            r.threads,
+            r.camera_all_threads,
+            r.bounce_all_threads,
+            r.triangles,
+            r.build_ms
+        );
+        rays.push(r);
+    }
     let mut photons = Vec::new();
     for name in ["cornell", "seed"] {
         let p = micro::photons(name)?;

@@ -1,5 +1,5 @@
 use super::{MaterialMaps, NO_LIGHT, Scene, TriangleMesh};
-use crate::accel::Bvh;
+use crate::accel::RayEngine;
 use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
 use crate::geometry::{Disk, Shape, Sphere, Triangle};
@@ -57,6 +57,7 @@ pub struct SceneBuilder {
     lights: Vec<Light>,
     camera: Option<CameraDesc>,
     resolution: (u32, u32),
+    ray_engine: RayEngine,
 }
 
 impl SceneBuilder {
@@ -70,7 +71,15 @@ impl SceneBuilder {
             lights: Vec::new(),
             camera: None,
             resolution: (512, 512),
+            ray_engine: RayEngine::Best,
         }
+    }
+
+    /// The ray caster to build (the best compiled in unless set). Building with
+    /// [`RayEngine::Embree`] fails when the `embree` feature is not compiled in.
+    pub fn ray_engine(&mut self, engine: RayEngine) -> &mut Self {
+        self.ray_engine = engine;
+        self
     }
 
     /// How many objects have been added: the index the next one will have in errors.
@@ -489,9 +498,8 @@ impl SceneBuilder {
                 }
             }
         }
-        let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
-        let (bvh, order) = Bvh::build(&bounds);
-        fit_directional_lights(&mut lights, &bvh.bounds());
+        let (rays, order) = super::rays::RayCaster::build(&shapes, self.ray_engine)?;
+        fit_directional_lights(&mut lights, &rays.bounds());
         let reorder = |v: &[u32]| order.iter().map(|&i| v[i as usize]).collect::<Vec<u32>>();
         let prim_material = reorder(&prim_material);
         let prim_light = reorder(&prim_light);
@@ -529,7 +537,7 @@ impl SceneBuilder {
             lights,
             camera,
             default_resolution: self.resolution,
-            bvh,
+            rays,
             content_hash: std::sync::OnceLock::new(),
         };
         scene.aim_distant_lights_at_view();

@@ -4,6 +4,7 @@
 //! it cannot fail.
 
 mod builder;
+mod rays;
 
 pub use builder::{Emission, SceneBuilder, TextureMaps};
 
@@ -20,7 +21,7 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
-use crate::accel::Bvh;
+use crate::accel::RayEngine;
 use crate::camera::CameraDesc;
 use crate::geometry::{Bounds, Shape};
 use crate::light::{EnvironmentLight, Light};
@@ -101,7 +102,7 @@ pub struct Scene {
     view_bounds: Option<Bounds>,
     /// Resolution used when the user gives none.
     pub default_resolution: (u32, u32),
-    bvh: Bvh,
+    rays: rays::RayCaster,
     /// [`Scene::content_hash`], computed on first use: every progressive pass asks for it
     /// (photon maps carry it), and formatting every primitive took 0.22 s at 102k triangles.
     content_hash: std::sync::OnceLock<u64>,
@@ -111,19 +112,7 @@ impl Scene {
     /// Closest intersection along `ray` nearer than `t_max`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let shapes = &self.shapes;
-        let mut best = None;
-        let (prim, t) = self.bvh.closest_hit(ray, t_max, |id, t_max| {
-            match shapes[id as usize].intersect(ray, 0.0, t_max) {
-                Some(h) => {
-                    best = Some(h);
-                    h.t
-                }
-                None => f32::INFINITY,
-            }
-        })?;
-        let _ = t;
-        let shape_hit = best?;
+        let (prim, shape_hit) = self.rays.closest_hit(&self.shapes, ray, t_max)?;
         let surface = self.shapes[prim as usize].surface(ray, &shape_hit);
         let ns = match self.prim_normals[prim as usize] {
             NO_LIGHT => surface.n,
@@ -150,12 +139,12 @@ impl Scene {
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, dist: f32) -> bool {
         let ray = Ray::new(origin, dir);
-        let shapes = &self.shapes;
-        self.bvh.any_hit(&ray, dist, |id, t_max| {
-            shapes[id as usize]
-                .intersect(&ray, 0.0, t_max)
-                .map_or(f32::INFINITY, |h| h.t)
-        })
+        self.rays.any_hit(&self.shapes, &ray, dist)
+    }
+
+    /// The ray caster this scene was built with (never [`RayEngine::Best`]).
+    pub fn ray_engine(&self) -> RayEngine {
+        self.rays.engine()
     }
 
     /// Closest hit by testing every primitive: the reference the BVH is tested against.
@@ -348,7 +337,7 @@ impl Scene {
     }
 
     pub fn bounds(&self) -> Bounds {
-        self.bvh.bounds()
+        self.rays.bounds()
     }
 
     /// A stable 64-bit fingerprint of everything that affects light transport (shapes,
