@@ -33,7 +33,13 @@ impl TriangleBvh {
     /// Build over `triangles`; position `i` is the id answered for `triangles[i]`. Embree drops
     /// degenerate triangles at build, which our own test would also never hit.
     pub fn build(triangles: &[[Vec3; 3]]) -> Result<Self, EmbreeError> {
-        let device = Device::new().map_err(embree_error)?;
+        // As many build threads as the caller's rayon pool has, so `--threads` holds for
+        // Embree's build too (it would take every core).
+        let config = embree3::Config {
+            threads: rayon::current_num_threads() as u32,
+            ..Default::default()
+        };
+        let device = Device::with_config(config).map_err(embree_error)?;
         let mut scene = device.create_scene().map_err(embree_error)?;
         if triangles.is_empty() {
             scene.commit();

@@ -13,7 +13,7 @@ const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 /// Radical inverse of `i` in `base`: the digits of `i` mirrored about the radix point.
 pub fn radical_inverse(base: u64, i: u64) -> f64 {
     match base {
-        2 => radical_inverse_in::<2>(i),
+        2 => radical_inverse_base_2(i),
         3 => radical_inverse_in::<3>(i),
         5 => radical_inverse_in::<5>(i),
         7 => radical_inverse_in::<7>(i),
@@ -46,6 +46,13 @@ fn radical_inverse_in<const B: u64>(mut i: u64) -> f64 {
     x.min(1.0 - f64::EPSILON / 2.0)
 }
 
+/// Base 2: mirroring the digits is reversing the bits.
+#[inline]
+fn radical_inverse_base_2(i: u64) -> f64 {
+    // 2⁻⁶⁴ scales the mirrored bits below the radix point; rounding to 53 bits may reach 1.
+    (i.reverse_bits() as f64 * (1.0 / 18_446_744_073_709_551_616.0)).min(1.0 - f64::EPSILON / 2.0)
+}
+
 fn radical_inverse_any(base: u64, mut i: u64) -> f64 {
     let inv = 1.0 / base as f64;
     let (mut reversed, mut scale) = (0.0f64, inv);
@@ -74,7 +81,7 @@ impl ShiftedHalton {
     /// Point `i`: six coordinates in [0, 1).
     pub fn point(&self, i: u64) -> [f32; 6] {
         let raw = [
-            radical_inverse_in::<2>(i),
+            radical_inverse_base_2(i),
             radical_inverse_in::<3>(i),
             radical_inverse_in::<5>(i),
             radical_inverse_in::<7>(i),
@@ -82,8 +89,11 @@ impl ShiftedHalton {
             radical_inverse_in::<13>(i),
         ];
         std::array::from_fn(|d| {
+            // Both terms are in [0, 1), so modulo 1 is one subtraction (and no call to `floor`,
+            // which x86-64's baseline has no instruction for).
             let x = raw[d] + self.shift[d];
-            ((x - x.floor()) as f32).min(ONE_MINUS_EPSILON)
+            let x = if x >= 1.0 { x - 1.0 } else { x };
+            (x as f32).min(ONE_MINUS_EPSILON)
         })
     }
 }
