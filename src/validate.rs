@@ -56,7 +56,7 @@ pub struct Budget {
     pub passes: u32,
     pub photons_per_pass: u64,
     /// Initial radius of the progressive methods as a fraction of the scene's diagonal. The
-    /// command line's default (4 pixel footprints) is made for full-size images: at 32² it is
+    /// command line's default (4 or 6 pixel footprints) is made for full-size images: at 32² it is
     /// a fifth of a room, and its bias takes thousands of passes to fade.
     pub radius_fraction: f32,
 }
