@@ -3,6 +3,8 @@
 //! compiled in is checked: our BVH exactly (it runs the brute force's own primitive tests),
 //! Embree (`--features embree`) to float tolerance, since its triangle test is its own.
 
+mod common;
+
 use photon::accel::RayEngine;
 use photon::camera::CameraDesc;
 use photon::material::{Lambertian, Material};
@@ -172,19 +174,15 @@ fn offset_rays_leave_triangle_meshes_without_hitting_them() {
         let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
         let c = Vec3::new(40.0, -25.0, 60.0);
         let r = 0.3;
-        let v = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z].map(|d| c + r * d);
-        let faces = [
-            [0, 2, 4],
-            [2, 1, 4],
-            [1, 3, 4],
-            [3, 0, 4],
-            [2, 0, 5],
-            [1, 2, 5],
-            [3, 1, 5],
-            [0, 3, 5],
-        ];
-        b.mesh(&v, &faces, glam::Affine3A::IDENTITY, m, None)
-            .expect("valid mesh");
+        let v = common::OCTAHEDRON_VERTICES.map(|d| c + r * Vec3::from_array(d));
+        b.mesh(
+            &v,
+            &common::OCTAHEDRON_FACES,
+            glam::Affine3A::IDENTITY,
+            m,
+            None,
+        )
+        .expect("valid mesh");
         let scene = b.build().expect("valid");
         assert_eq!(scene.ray_engine(), engine.resolved());
         let mut rng = Rng::keyed(9, &[]);

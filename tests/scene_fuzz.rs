@@ -94,28 +94,12 @@ fn damaged_mesh_files_never_panic() {
     ];
     // A binary PLY: the octahedron's six vertices and eight faces.
     let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\nelement face 8\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
-    for p in [
-        [1.0f32, 0.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, 0.0, -1.0],
-    ] {
+    for p in common::OCTAHEDRON_VERTICES {
         p.iter().for_each(|x| ply.extend(x.to_le_bytes()));
     }
-    for f in [
-        [0, 2, 4],
-        [2, 1, 4],
-        [1, 3, 4],
-        [3, 0, 4],
-        [2, 0, 5],
-        [1, 2, 5],
-        [3, 1, 5],
-        [0, 3, 5],
-    ] {
+    for f in common::OCTAHEDRON_FACES {
         ply.push(3);
-        f.iter().for_each(|i: &i32| ply.extend(i.to_le_bytes()));
+        f.iter().for_each(|&i| ply.extend((i as i32).to_le_bytes()));
     }
     inputs.push(("ply", ply));
     // The glTF as GLB, so binary chunk headers get damaged too.

@@ -209,3 +209,24 @@ pub fn chi2_directions(
     }
     z
 }
+
+/// An octahedron's vertices (±x, ±y, ±z on the unit axes, in that order) and its eight faces,
+/// wound outward.
+pub const OCTAHEDRON_VERTICES: [[f32; 3]; 6] = [
+    [1.0, 0.0, 0.0],
+    [-1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, -1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [0.0, 0.0, -1.0],
+];
+pub const OCTAHEDRON_FACES: [[u32; 3]; 8] = [
+    [0, 2, 4],
+    [2, 1, 4],
+    [1, 3, 4],
+    [3, 0, 4],
+    [2, 0, 5],
+    [1, 2, 5],
+    [3, 1, 5],
+    [0, 3, 5],
+];
