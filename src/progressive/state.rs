@@ -1,12 +1,13 @@
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::film::{Image, PixelFilter, stratified_2d};
+use crate::film::{Image, PixelFilter};
 use crate::integrator::{RayStats, VisiblePoint, trace_camera_path};
 use crate::material::{Part, TransportMode};
 use crate::math::{Rgb, Vec2};
 use crate::photon::estimate::disc_distance2;
 use crate::photon::grid::{PhotonGrid, QueryScratch};
 use crate::photon::{PassPhoton, trace_indirect_photons};
+use crate::sampling::halton::PassJitter;
 use crate::sampling::{Rng, mix64};
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -219,8 +220,9 @@ impl ProgressiveState {
                 .unwrap_or(c.method.footprint_pixels() * footprint * vp.distance)
         };
         let ppm_r_scale = ppm_radius_scale(pass, c.alpha);
+        let jitter = PassJitter::new(c.seed, pass);
         let trace = |x: usize, y: usize, stats: &mut RayStats| {
-            let (ray, mut rng) = camera_ray(&camera, c.seed, pass, x, y, width);
+            let (ray, mut rng) = camera_ray(&camera, &c, &jitter, pass, x, y);
             trace_camera_path(scene, &ray, c.max_depth, c.light_samples, &mut rng, stats)
         };
         let start = Instant::now();
@@ -472,15 +474,15 @@ pub fn ppm_radius_scale(pass: u64, alpha: f64) -> f32 {
 
 fn camera_ray(
     camera: &Camera,
-    seed: u64,
+    c: &ProgressiveConfig,
+    jitter: &PassJitter,
     pass: u64,
     x: usize,
     y: usize,
-    width: usize,
 ) -> (crate::math::Ray, Rng) {
-    let pixel = (y * width + x) as u64;
-    let mut rng = Rng::keyed(seed, &[pass, pixel, 0x9a55]);
-    let u = stratified_2d(0, 1, Vec2::ZERO, rng.next_2d());
+    let pixel = (y * c.width as usize + x) as u64;
+    let rng = Rng::keyed(c.seed, &[pass, pixel, 0x9a55]);
+    let u = Vec2::from_array(jitter.position(pixel));
     let pos = PixelFilter::Box.sample_position(x as u32, y as u32, u);
     (camera.ray(pos), rng)
 }
