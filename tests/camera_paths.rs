@@ -7,6 +7,7 @@ use photon::description::toml_read;
 use photon::integrator::{RayStats, trace_camera_path};
 use photon::math::{Ray, Vec3};
 use photon::sampling::Rng;
+use photon::sampling::halton::{PassJitter, Prefixed};
 use photon::scene::Scene;
 use std::path::Path;
 
@@ -73,5 +74,90 @@ fn light_through_glass_is_unbiased_and_nearly_noiseless() {
         deviation / mean < 0.02,
         "relative deviation {}",
         deviation / mean
+    );
+}
+
+/// A grey floor under a disk light of radius 0.5 m and radiance 1, one metre above it.
+const FLOOR_UNDER_LIGHT: &str = r#"
+[camera]
+position = [0.0, 3.0, 0.001]
+look_at = [0.0, 0.0, 0.0]
+fov = 1.0
+resolution = [4, 4]
+
+[materials.grey]
+type = "diffuse"
+albedo = 0.5
+
+[[shapes]]
+type = "quad"
+vertices = [[-2.0, 0.0, -2.0], [-2.0, 0.0, 2.0], [2.0, 0.0, 2.0], [2.0, 0.0, -2.0]]
+material = "grey"
+
+[[shapes]]
+type = "disk"
+center = [0.3, 1.0, -0.2]
+normal = [0.0, -1.0, 0.0]
+radius = 0.5
+emission = { radiance = 1.0 }
+"#;
+
+/// A progressive pixel takes its camera path's first random numbers (on a diffuse surface:
+/// its light sample) from [`PassJitter::light`], so its 64 passes' light samples cover the
+/// light evenly: their mean is far closer to the true direct light than 64 independent
+/// samples' (relative RMS error 1.3% against 4.9% when written). Guards both the sequence and
+/// the order in which `trace_camera_path` draws its numbers.
+#[test]
+fn a_pixels_passes_stratify_its_light_samples() {
+    let desc = toml_read::read_str(FLOOR_UNDER_LIGHT, Path::new("floor.toml"), Path::new("."))
+        .expect("reads");
+    let scene = build(&desc).expect("builds");
+    // Below the light, looking down at the floor near the point under the light's rim.
+    let ray = Ray::new(Vec3::new(0.7, 0.5, 0.2), Vec3::new(0.0, -1.0, 0.0));
+    let mut stats = RayStats::default();
+    // The truth, from many independent samples.
+    let n = 200_000u64;
+    let truth = (0..n)
+        .map(|i| {
+            let mut rng = Rng::keyed(7, &[i]);
+            f64::from(
+                trace_camera_path(&scene, &ray, 4, 1, &mut rng, &mut stats)
+                    .direct
+                    .x,
+            )
+        })
+        .sum::<f64>()
+        / n as f64;
+    assert!(truth > 0.01, "{truth}");
+    let passes = 64;
+    let pixels = 100;
+    let mut squared = [0.0f64; 2];
+    for pixel in 0..pixels {
+        let mut sums = [0.0f64; 2];
+        for pass in 0..passes {
+            let jitter = PassJitter::new(11, pass);
+            let mut rng = Rng::keyed(11, &[pass, pixel]);
+            let mut quasi = Prefixed::new(jitter.light(pixel), &mut rng);
+            sums[0] += f64::from(
+                trace_camera_path(&scene, &ray, 4, 1, &mut quasi, &mut stats)
+                    .direct
+                    .x,
+            );
+            let mut rng = Rng::keyed(12, &[pass, pixel]);
+            sums[1] += f64::from(
+                trace_camera_path(&scene, &ray, 4, 1, &mut rng, &mut stats)
+                    .direct
+                    .x,
+            );
+        }
+        for (sq, sum) in squared.iter_mut().zip(sums) {
+            *sq += (sum / passes as f64 / truth - 1.0).powi(2);
+        }
+    }
+    let [quasi, random] = squared.map(|s| (s / pixels as f64).sqrt());
+    assert!(random > 0.02, "the case must be noisy: {random}");
+    assert!(
+        quasi < random / 2.5,
+        "quasi-random {quasi}, random {random}"
     );
 }

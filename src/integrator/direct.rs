@@ -6,7 +6,7 @@ use super::{RayStats, Sample, ShadingPoint, own_light_pdf_for_hit, power_heurist
 use crate::light::{EnvironmentLight, Light};
 use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
-use crate::sampling::Rng;
+use crate::sampling::{Rng, Sampler};
 use crate::scene::Scene;
 
 #[derive(Clone, Debug)]
@@ -115,7 +115,7 @@ pub(crate) fn direct_light(
     scene: &Scene,
     sp: &ShadingPoint,
     continued: Option<f32>,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
     let m = &sp.material;
@@ -177,7 +177,7 @@ fn sky_by_bsdf(
     scene: &Scene,
     sp: &ShadingPoint,
     sky: &EnvironmentLight,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
     let u_lobe = rng.next_f32();

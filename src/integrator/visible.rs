@@ -5,7 +5,7 @@ use super::direct::{DirectConfig, direct_light, emission_weight, escaped_radianc
 use super::{RayStats, ShadingPoint};
 use crate::material::{Material, Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 
 /// Where a camera path stopped on a rough surface.
@@ -43,7 +43,7 @@ pub fn trace_camera_path(
     ray: &Ray,
     max_depth: u32,
     light_samples: u32,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> CameraPath {
     let mut out = CameraPath::default();
@@ -266,12 +266,17 @@ fn branch_emission(
 struct DeltaWalk<'a> {
     scene: &'a Scene,
     max_depth: u32,
-    rng: &'a mut Rng,
+    rng: &'a mut dyn Sampler,
     stats: &'a mut RayStats,
 }
 
 impl<'a> DeltaWalk<'a> {
-    fn new(scene: &'a Scene, max_depth: u32, rng: &'a mut Rng, stats: &'a mut RayStats) -> Self {
+    fn new(
+        scene: &'a Scene,
+        max_depth: u32,
+        rng: &'a mut dyn Sampler,
+        stats: &'a mut RayStats,
+    ) -> Self {
         Self {
             scene,
             max_depth,

@@ -7,7 +7,7 @@ use crate::math::{Rgb, Vec2};
 use crate::photon::estimate::disc_distance2;
 use crate::photon::grid::{PhotonGrid, QueryScratch};
 use crate::photon::{PassPhoton, trace_indirect_photons};
-use crate::sampling::halton::PassJitter;
+use crate::sampling::halton::{PassJitter, Prefixed};
 use crate::sampling::{Rng, mix64};
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -223,7 +223,16 @@ impl ProgressiveState {
         let jitter = PassJitter::new(c.seed, pass);
         let trace = |x: usize, y: usize, stats: &mut RayStats| {
             let (ray, mut rng) = camera_ray(&camera, &c, &jitter, pass, x, y);
-            trace_camera_path(scene, &ray, c.max_depth, c.light_samples, &mut rng, stats)
+            let pixel = (y * width + x) as u64;
+            let mut sampler = Prefixed::new(jitter.light(pixel), &mut rng);
+            trace_camera_path(
+                scene,
+                &ray,
+                c.max_depth,
+                c.light_samples,
+                &mut sampler,
+                stats,
+            )
         };
         let start = Instant::now();
         // 1. Visible points, with the direct light added to each pixel as it is found.

@@ -5,7 +5,7 @@
 
 mod rng;
 
-pub use rng::{Rng, mix64};
+pub use rng::{Rng, Sampler, mix64};
 
 pub mod halton;
 

@@ -67,6 +67,24 @@ impl Rng {
     }
 }
 
+/// A source of uniform random numbers in [0, 1): an [`Rng`], or one whose first numbers come
+/// from a low-discrepancy sequence ([`super::halton::Prefixed`]).
+pub trait Sampler {
+    fn next_f32(&mut self) -> f32;
+
+    fn next_2d(&mut self) -> glam::Vec2 {
+        let x = self.next_f32();
+        glam::Vec2::new(x, self.next_f32())
+    }
+}
+
+impl Sampler for Rng {
+    #[inline]
+    fn next_f32(&mut self) -> f32 {
+        Rng::next_f32(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
