@@ -35,9 +35,8 @@ vertices = [[-2.0, -2.0, -2.0], [2.0, -2.0, -2.0], [2.0, 2.0, -2.0], [-2.0, 2.0,
 emission = { radiance = 1.0, two_sided = true }
 "#;
 
-fn sphere_before_light() -> Scene {
-    let desc = toml_read::read_str(SPHERE_BEFORE_LIGHT, Path::new("glass.toml"), Path::new("."))
-        .expect("reads");
+fn scene(toml: &str) -> Scene {
+    let desc = toml_read::read_str(toml, Path::new("scene.toml"), Path::new(".")).expect("reads");
     build(&desc).expect("builds")
 }
 
@@ -49,7 +48,7 @@ fn sphere_before_light() -> Scene {
 /// all) gave a relative deviation of about 0.3.
 #[test]
 fn light_through_glass_is_unbiased_and_nearly_noiseless() {
-    let scene = sphere_before_light();
+    let scene = scene(SPHERE_BEFORE_LIGHT);
     let f = 0.04f64;
     let expected = (1.0 - f) / (1.0 + f);
     let ray = Ray::new(Vec3::new(0.0, 0.0, 3.0), Vec3::new(0.0, 0.0, -1.0));
@@ -109,9 +108,7 @@ emission = { radiance = 1.0 }
 /// the order in which `trace_camera_path` draws its numbers.
 #[test]
 fn a_pixels_passes_stratify_its_light_samples() {
-    let desc = toml_read::read_str(FLOOR_UNDER_LIGHT, Path::new("floor.toml"), Path::new("."))
-        .expect("reads");
-    let scene = build(&desc).expect("builds");
+    let scene = scene(FLOOR_UNDER_LIGHT);
     // Below the light, looking down at the floor near the point under the light's rim.
     let ray = Ray::new(Vec3::new(0.7, 0.5, 0.2), Vec3::new(0.0, -1.0, 0.0));
     let mut stats = RayStats::default();

@@ -38,12 +38,12 @@ pub struct CameraPath {
 /// Light found along delta lobes alone (the light seen in a mirror or through glass) is
 /// summed over both branches of glass for the first [`SPLIT_DEPTH`] bounces instead (see
 /// [`DeltaChain`]).
-pub fn trace_camera_path(
+pub fn trace_camera_path<S: Sampler>(
     scene: &Scene,
     ray: &Ray,
     max_depth: u32,
     light_samples: u32,
-    rng: &mut impl Sampler,
+    rng: &mut S,
     stats: &mut RayStats,
 ) -> CameraPath {
     let mut out = CameraPath::default();
@@ -79,19 +79,20 @@ pub fn trace_camera_path(
         let may_go_on = depth < max_depth;
         // Only the delta branches of the first bounces are summed; deeper ones are sampled.
         let split = chain.filter(|_| depth < SPLIT_DEPTH && may_go_on);
+        // The light along the delta branches here other than the one followed (all of them
+        // when the path stops here).
+        let other_branches = |followed: Option<Vec3>, rng: &mut S, stats: &mut RayStats| {
+            split.map_or(Rgb::ZERO, |d| {
+                let mut walk = DeltaWalk::new(scene, max_depth, rng, stats);
+                d.branches(&mut walk, &sp, followed, depth)
+            })
+        };
         let stop = stop_probability(m, sp.wo_local, may_go_on);
         if m.lobes().has_density() {
             out.direct += beta * direct_light(&c, scene, &sp, Some(1.0 - stop), rng, stats);
         }
         if stop > 0.0 && (stop >= 1.0 || rng.next_f32() < stop) {
-            if let Some(d) = split {
-                out.direct += d.branches(
-                    &mut DeltaWalk::new(scene, max_depth, rng, stats),
-                    &sp,
-                    None,
-                    depth,
-                );
-            }
+            out.direct += other_branches(None, rng, stats);
             out.visible = Some(VisiblePoint {
                 p: hit.p,
                 frame: sp.frame,
@@ -113,26 +114,14 @@ pub fn trace_camera_path(
             TransportMode::Radiance,
             Part::Smooth,
         ) else {
-            if let Some(d) = split {
-                out.direct += d.branches(
-                    &mut DeltaWalk::new(scene, max_depth, rng, stats),
-                    &sp,
-                    None,
-                    depth,
-                );
-            }
+            out.direct += other_branches(None, rng, stats);
             return out;
         };
         let go_on = 1.0 - stop;
         chain = match (chain, split) {
             _ if !s.is_specular() => None,
             (_, Some(d)) => {
-                out.direct += d.branches(
-                    &mut DeltaWalk::new(scene, max_depth, rng, stats),
-                    &sp,
-                    Some(s.wi),
-                    depth,
-                );
+                out.direct += other_branches(Some(s.wi), rng, stats);
                 Some(d.followed(&sp, s.wi))
             }
             (Some(d), None) => Some(DeltaChain {
