@@ -91,6 +91,8 @@ pub(crate) struct ShadingPoint<'a> {
     pub material: Material,
     pub frame: Frame,
     pub wo_local: Vec3,
+    /// The geometric normal on the side of `wo` (see [`Hit::ng_facing`]).
+    pub ng: Vec3,
 }
 
 impl<'a> ShadingPoint<'a> {
@@ -101,6 +103,7 @@ impl<'a> ShadingPoint<'a> {
             material,
             frame,
             wo_local: frame.to_local(wo),
+            ng: hit.ng_facing(wo),
         }
     }
 }

@@ -216,6 +216,7 @@ impl PhotonIntegrator {
             out.caustic = estimate::radiance(
                 &maps.caustic,
                 hit.p,
+                sp.ng,
                 &sp.frame,
                 sp.wo_local,
                 m,
@@ -227,6 +228,7 @@ impl PhotonIntegrator {
                 None => estimate::radiance(
                     &maps.global,
                     hit.p,
+                    sp.ng,
                     &sp.frame,
                     sp.wo_local,
                     m,
@@ -457,14 +459,21 @@ impl PhotonIntegrator {
         wo_local: Vec3,
         material: &crate::material::Material,
     ) -> Rgb {
+        let ng = hit.ng_facing(frame.to_world(wo_local));
         if material.glossy_alpha(Part::Rough) >= GATHER_AS_DIFFUSE_ALPHA {
-            let e = self.lookup(hit, frame.n).unwrap_or(Rgb::ZERO);
+            // The rough part only reflects, and reflection needs `wo` above the shading plane
+            // (a smooth mesh's normal can turn it below while the surface faces it).
+            if wo_local.z <= 0.0 {
+                return Rgb::ZERO;
+            }
+            let e = self.lookup(hit, ng).unwrap_or(Rgb::ZERO);
             return material.albedo_part(wo_local, Part::Rough) * FRAC_1_PI * e;
         }
         let g = &self.settings.global;
         estimate::radiance(
             &self.maps.global,
             hit.p,
+            ng,
             frame,
             wo_local,
             material,
@@ -473,6 +482,7 @@ impl PhotonIntegrator {
         ) + estimate::radiance(
             &self.maps.caustic,
             hit.p,
+            ng,
             frame,
             wo_local,
             material,

@@ -14,6 +14,8 @@ pub struct VisiblePoint {
     pub p: Vec3,
     pub frame: Frame,
     pub wo_local: Vec3,
+    /// The geometric normal on the side of the camera path (see [`crate::scene::Hit::ng_facing`]).
+    pub ng: Vec3,
     /// The material at the point, textures resolved; photons are evaluated with its rough part.
     pub material: Material,
     /// Throughput of the path from the camera, divided by the probabilities of its choices.
@@ -97,6 +99,7 @@ pub fn trace_camera_path<S: Sampler>(
                 p: hit.p,
                 frame: sp.frame,
                 wo_local: sp.wo_local,
+                ng: sp.ng,
                 material: sp.material,
                 beta: beta / stop,
                 distance,

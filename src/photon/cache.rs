@@ -2,12 +2,14 @@
 //! Photon Map Global Illumination", JGT 1999), and the hot regions among them that gather rays
 //! aim at (see [`super::hot`]).
 
-use super::estimate::{Filter, GatherParams, disc_distance2, irradiance_filtered};
+use super::estimate::{
+    Filter, GatherParams, STORED_NORMAL_ERROR, disc_distance2, irradiance_filtered,
+};
 use super::hot::{HOT_FACTOR, HotCluster, HotSampler, clusters};
 use super::kdtree::{KdIndex, KdPoint};
 use super::map::PhotonMap;
 use super::record::{decode_octahedral, encode_octahedral};
-use crate::math::{Rgb, Vec3, luminance};
+use crate::math::{Rgb, Vec3, luminance, surface_epsilon};
 use rayon::prelude::*;
 
 /// Whether a photon is one of the irradiance cache's sites for `stride`: about one photon in
@@ -185,8 +187,16 @@ impl IrradianceCache {
     }
 
     fn nearest(&self, p: Vec3, n: Vec3, max_radius: f32) -> Option<&CachePoint> {
+        let tolerance = surface_epsilon(p);
         let metric = |_, c: &CachePoint, d2: f32| {
-            disc_distance2(c.position - p, d2, n, decode_octahedral(c.normal))
+            disc_distance2(
+                c.position - p,
+                d2,
+                n,
+                decode_octahedral(c.normal),
+                tolerance,
+                STORED_NORMAL_ERROR,
+            )
         };
         let best = self
             .index

@@ -10,7 +10,7 @@
 
 use super::map::PhotonMap;
 use crate::material::{Material, Part, TransportMode};
-use crate::math::{Frame, Rgb, Vec3};
+use crate::math::{Frame, Rgb, Vec3, surface_epsilon};
 use std::f32::consts::PI;
 
 /// Density-estimation kernels, each normalised to integrate to 1 over its disc.
@@ -96,13 +96,47 @@ const NORMAL_AGREEMENT: f32 = 0.9;
 /// search sphere is flattened into a disc of thickness 2r/DISC.
 const DISC: f32 = 3.0;
 
+/// How far the normals of one plane may differ when the photon's is stored in a map: each is
+/// within 1° of the true normal (octahedral 2 × u8, see [`super::record`]), so together
+/// within 2° (0.035 rad).
+pub(crate) const STORED_NORMAL_ERROR: f32 = 0.04;
+/// The same for a progressive pass's photons, whose normals are exact (f32).
+pub(crate) const EXACT_NORMAL_ERROR: f32 = 1e-3;
+
 /// Distance² in the flattened metric, or `None` if the photon is on another surface.
+///
+/// `d` is the photon's offset from the query point, `d2` its length², `n` and `photon_normal`
+/// the geometric normals of the two points on the sides their light came from. A photon is on
+/// the query's surface when
+/// - the normals agree (cos > 0.9): not a wall meeting this one in a corner, nor the other
+///   face of a thin object;
+/// - its offset from the query's tangent plane is explained by the surface's bending. On a
+///   smooth surface a chord between points with normals n and n′ leaves the tangent plane by
+///   |d·n| = |d| |n − n′| / 2 (exactly on a circle), and across the facets of a tessellated
+///   one by at most |d| |n − n′|. `normal_error` |d| covers the normals' own error
+///   ([`STORED_NORMAL_ERROR`] or [`EXACT_NORMAL_ERROR`]) and `plane_tolerance` (a few ulps of
+///   the coordinates) rounding. A photon further off the plane lies on a parallel surface
+///   nearby: a ceiling above a light mounted just below it, a shelf above a shelf. Such
+///   photons are left out once the disc is under their offset / `normal_error` (a light 1 cm
+///   below a ceiling: 25 cm for a photon map, 10 m for a progressive pass).
 #[inline]
-pub(crate) fn disc_distance2(d: Vec3, d2: f32, n: Vec3, photon_normal: Vec3) -> Option<f32> {
+pub(crate) fn disc_distance2(
+    d: Vec3,
+    d2: f32,
+    n: Vec3,
+    photon_normal: Vec3,
+    plane_tolerance: f32,
+    normal_error: f32,
+) -> Option<f32> {
     if photon_normal.dot(n) < NORMAL_AGREEMENT {
         return None;
     }
     let h = d.dot(n);
+    let off_plane = h.abs() - plane_tolerance;
+    let bend = (n - photon_normal).length() + normal_error;
+    if off_plane > 0.0 && off_plane * off_plane > d2 * bend * bend {
+        return None;
+    }
     Some(d2 + (DISC * DISC - 1.0) * h * h)
 }
 
@@ -145,14 +179,21 @@ pub(super) fn gather(
 ) {
     let photons = map.photons();
     let max_r2 = g.max_radius * g.max_radius;
+    let tolerance = surface_epsilon(p);
     if g.k == 0 {
         map.for_each_within(p, g.max_radius, &mut |i, d2| {
             let ph = &photons[i];
             if filter.skips(ph) {
                 return;
             }
-            if let Some(m) = disc_distance2(ph.position() - p, d2, n, ph.normal())
-                && m <= max_r2
+            if let Some(m) = disc_distance2(
+                ph.position() - p,
+                d2,
+                n,
+                ph.normal(),
+                tolerance,
+                STORED_NORMAL_ERROR,
+            ) && m <= max_r2
             {
                 f(i, g.kernel.weight(m, max_r2));
             }
@@ -163,7 +204,14 @@ pub(super) fn gather(
         if filter.skips(ph) {
             return None;
         }
-        disc_distance2(ph.position() - p, d2, n, ph.normal())
+        disc_distance2(
+            ph.position() - p,
+            d2,
+            n,
+            ph.normal(),
+            tolerance,
+            STORED_NORMAL_ERROR,
+        )
     };
     let best = map
         .index()
@@ -200,6 +248,7 @@ pub(super) fn gather(
 pub fn radiance(
     map: &PhotonMap,
     p: Vec3,
+    ng: Vec3,
     frame: &Frame,
     wo_local: Vec3,
     material: &Material,
@@ -212,7 +261,7 @@ pub fn radiance(
         skip_direct,
         ..Filter::default()
     };
-    gather(map, p, frame.n, g, filter, &mut |i, w| {
+    gather(map, p, ng, g, filter, &mut |i, w| {
         let wi = frame.to_local(photons[i].incoming());
         l += material.eval_part(wo_local, wi, TransportMode::Radiance, Part::Rough)
             * photons[i].relative_power()
@@ -239,4 +288,87 @@ pub(super) fn irradiance_filtered(
         e += photons[i].relative_power() * w;
     });
     e * map.power_scale
+}
+
+#[cfg(test)]
+mod tests {
+    use super::disc_distance2;
+    use crate::math::Vec3;
+
+    /// Whether a photon at `q` with normal `nq` counts for a query at `p` with normal `np`.
+    fn counts(p: Vec3, np: Vec3, q: Vec3, nq: Vec3) -> bool {
+        let d = q - p;
+        disc_distance2(
+            d,
+            d.length_squared(),
+            np,
+            nq,
+            1e-6,
+            super::STORED_NORMAL_ERROR,
+        )
+        .is_some()
+    }
+
+    #[test]
+    fn a_parallel_surface_one_centimetre_away_is_another_surface() {
+        let down = -Vec3::Y;
+        let p = Vec3::new(0.0, 0.99, 0.0);
+        for r in [0.02, 0.05, 0.2] {
+            // Photons on the ceiling 1 cm above, facing the same way.
+            assert!(!counts(p, down, Vec3::new(r, 1.0, 0.0), down), "r = {r}");
+            // Photons on the light's own plane.
+            assert!(counts(p, down, Vec3::new(r, 0.99, 0.0), down), "r = {r}");
+        }
+    }
+
+    #[test]
+    fn a_curved_surface_is_one_surface_across_the_disc() {
+        // Points on a sphere (outward normals) and on the facets of a sphere tessellated
+        // every 10° (each facet's normal at its middle): every neighbour within the normal
+        // agreement (25°) counts.
+        let radius = 0.3;
+        let on_sphere = |a: f32| {
+            (
+                Vec3::new(a.sin(), a.cos(), 0.0) * radius,
+                Vec3::new(a.sin(), a.cos(), 0.0),
+            )
+        };
+        for a in [0.01f32, 0.1, 0.2, 0.4] {
+            let (q, nq) = on_sphere(a);
+            assert!(
+                counts(Vec3::Y * radius, Vec3::Y, q, nq),
+                "sphere at {a} rad"
+            );
+        }
+        let step = 10f32.to_radians();
+        let facet_normal = |i: f32| on_sphere((i + 0.5) * step).1;
+        // The query on facet 0 (from 0° to 10°), photons on facets 1 and 2 (10° to 30°).
+        let facet_point = |i: f32, s: f32| {
+            let (a, b) = (on_sphere(i * step).0, on_sphere((i + 1.0) * step).0);
+            a + (b - a) * s
+        };
+        for (qs, ps, facet) in [
+            (0.9, 0.1, 1.0),
+            (0.0, 0.5, 1.0),
+            (0.5, 0.2, 2.0),
+            (1.0, 0.9, 1.0),
+        ] {
+            let p = facet_point(0.0, qs);
+            let q = facet_point(facet, ps);
+            assert!(
+                counts(p, facet_normal(0.0), q, facet_normal(facet)),
+                "facet 0 at {qs}, facet {facet} at {ps}"
+            );
+        }
+    }
+
+    #[test]
+    fn walls_meeting_in_a_corner_are_other_surfaces() {
+        assert!(!counts(
+            Vec3::ZERO,
+            Vec3::Y,
+            Vec3::new(0.01, 0.01, 0.0),
+            Vec3::X
+        ));
+    }
 }

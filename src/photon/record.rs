@@ -5,7 +5,7 @@
 //! | 12 | position, 3 × f32 |
 //! | 6 | power, 3 × f16, relative to its map's `power_scale` (so small fluxes stay normal f16) |
 //! | 2 | incoming direction, octahedral 2 × u8 (Cigolle et al., JCGT 2014), error < 1° |
-//! | 2 | surface normal on the lit side, octahedral 2 × u8, error < 1° |
+//! | 2 | geometric normal on the lit side, octahedral 2 × u8, error < 1° |
 //! | 1 | depth: number of surface hits, 1 for light arriving straight from a light |
 //! | 1 | flags: bits 2–3 colour channel (0 RGB, 1 R, 2 G, 3 B); the rest reserved |
 //!

@@ -300,11 +300,13 @@ pub fn trace_photons(
 #[derive(Clone, Copy, Debug)]
 struct PathVertex {
     p: Vec3,
-    /// Shading normal on the side the photon arrived from.
+    /// Geometric normal on the side the photon arrived from: which surface it is on.
     n: Vec3,
     /// Direction back toward where the photon came from.
     wo: Vec3,
     /// Power relative to Φ_max / N (see [`PhotonMaps`]); times `total_max / N` gives watts.
+    /// Scaled by |wo·ns| / |wo·ng| (see [`ShadingCosines`]), so that Σ power / area is the
+    /// irradiance the shading normal sees and every estimate may weigh it by f alone.
     power: Rgb,
     /// Surface hits so far, this one included (1: straight from a light).
     depth: u32,
@@ -361,12 +363,14 @@ fn trace_path(
         };
         let wo = -ray.dir;
         let (material, frame) = scene.surface(&hit, wo);
+        let ng = hit.ng_facing(wo);
+        let arrival = ShadingCosines::new(wo, ng, frame.n);
         if material.has(Part::Rough) {
             visit(&PathVertex {
                 p: hit.p,
-                n: frame.n,
+                n: ng,
                 wo,
-                power,
+                power: power * arrival.reflected_ratio(),
                 depth,
                 specular_only,
             });
@@ -392,10 +396,63 @@ fn trace_path(
         if survive <= 0.0 || rng.next_f32() >= survive {
             return;
         }
-        power *= s.weight / survive;
-        specular_only &= material.is_smooth_lobe(s.lobe);
         let wi = frame.to_world(s.wi);
+        let departure = ShadingCosines::new(wi, ng, frame.n);
+        // The adjoint BSDF under shading normals (Veach 1997, §5.3):
+        // f*(wo → wi) = f(wi → wo) |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|).
+        power *= s.weight * arrival.ratio() / departure.ratio() / survive;
+        if !power.is_finite() {
+            return;
+        }
+        specular_only &= material.is_smooth_lobe(s.lobe);
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+    }
+}
+
+/// |w·ns| and |w·ng| of one direction at a photon's hit. Photon flux lands on the geometric
+/// surface, while the BSDF weighs incident light by the shading cosine: the ratio converts
+/// one into the other (Veach 1997, §5.3). Where the shading and geometric normals agree it is
+/// exactly 1.
+#[derive(Clone, Copy, Debug)]
+struct ShadingCosines {
+    shading: f32,
+    geometric: f32,
+    /// `w` is on the side of the shading plane that faces the geometric side of `ng`.
+    shading_above: bool,
+}
+
+impl ShadingCosines {
+    /// `ng` is the geometric normal on the side `w` or the photon came from.
+    fn new(w: Vec3, ng: Vec3, ns: Vec3) -> Self {
+        let s = w.dot(ns);
+        Self {
+            shading: s.abs(),
+            geometric: w.dot(ng).abs(),
+            shading_above: (s > 0.0) == (ns.dot(ng) > 0.0),
+        }
+    }
+
+    /// The share of a photon arriving along `w` that rough parts (reflection only) can send on,
+    /// per unit of its geometric flux: |w·ns| / |w·ng| where `w` is above the shading plane on
+    /// the geometric side it came from, zero where it is below it. Reflection needs both
+    /// directions above the shading plane, so such a photon is never reflected (Lambertian and
+    /// microfacet reflection are zero there, as they are for a camera path).
+    fn reflected_ratio(self) -> f32 {
+        if self.shading_above {
+            self.ratio()
+        } else {
+            0.0
+        }
+    }
+
+    /// |w·ns| / |w·ng|: a photon arriving along `w` brings this much shading irradiance per
+    /// unit of its geometric flux density; zero at a grazing geometric angle.
+    fn ratio(self) -> f32 {
+        if self.geometric > 0.0 {
+            self.shading / self.geometric
+        } else {
+            0.0
+        }
     }
 }
 

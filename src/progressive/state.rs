@@ -3,8 +3,8 @@ use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter};
 use crate::integrator::{RayStats, VisiblePoint, trace_camera_path};
 use crate::material::{Part, TransportMode};
-use crate::math::{Rgb, Vec2};
-use crate::photon::estimate::disc_distance2;
+use crate::math::{Rgb, Vec2, surface_epsilon};
+use crate::photon::estimate::{EXACT_NORMAL_ERROR, disc_distance2};
 use crate::photon::grid::{PhotonGrid, QueryScratch};
 use crate::photon::{PassPhoton, trace_indirect_photons};
 use crate::sampling::halton::{PassJitter, Prefixed};
@@ -454,9 +454,16 @@ fn photon_flux(
 ) -> (Rgb, u32) {
     let mut sum = Rgb::ZERO;
     let mut count = 0;
+    let tolerance = surface_epsilon(vp.p);
     grid.for_each_within(vp.p, r2.sqrt(), scratch, &mut |ph, d2| {
-        if let Some(m) = disc_distance2(ph.position - vp.p, d2, vp.frame.n, ph.normal)
-            && m <= r2
+        if let Some(m) = disc_distance2(
+            ph.position - vp.p,
+            d2,
+            vp.ng,
+            ph.normal,
+            tolerance,
+            EXACT_NORMAL_ERROR,
+        ) && m <= r2
         {
             let wi = vp.frame.to_local(ph.incoming);
             sum += vp

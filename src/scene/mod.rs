@@ -63,6 +63,16 @@ pub struct Hit {
 }
 
 impl Hit {
+    /// The geometric normal on the side of `w`: which surface, and which of its faces, a
+    /// point is on (photon estimates compare these; shading normals bend across a mesh).
+    pub fn ng_facing(&self, w: Vec3) -> Vec3 {
+        if self.ng.dot(w) < 0.0 {
+            -self.ng
+        } else {
+            self.ng
+        }
+    }
+
     /// Shading frame for material `m` seen from direction `wo` (pointing away from the
     /// surface): two-sided materials face `wo`; dielectrics keep the outward normal.
     pub fn frame(&self, m: &Material, wo: Vec3) -> Frame {
