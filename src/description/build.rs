@@ -20,7 +20,7 @@ use crate::math::{Rgb, Vec3};
 use crate::modeling::PolyMesh;
 use crate::modeling::pot::{PotParams, pot};
 use crate::scene::{Emission, Scene, SceneBuilder, TextureMaps, TriangleMesh};
-use crate::texture::{Checker, Texture};
+use crate::texture::{Checker, MappedTexture, Texture, UvMapping};
 use glam::Affine3A;
 use std::collections::HashMap;
 use std::f32::consts::PI;
@@ -197,7 +197,13 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
             let (constant, texture) = color(albedo, base_dir)?;
             let m = Material::Lambertian(Lambertian { albedo: constant });
             match texture {
-                Some(t) => b.textured_material(m, t)?,
+                Some(t) => b.material_with_maps(
+                    m,
+                    TextureMaps {
+                        base: Some(t),
+                        ..TextureMaps::default()
+                    },
+                )?,
                 None => b.material(m),
             }
         }
@@ -239,14 +245,17 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
         }
         MaterialSpec::Pbr(p) => {
             let (base, texture) = color(&p.base_color, base_dir)?;
-            let data = |t: &ImageRef| -> Result<Texture> {
-                Ok(Texture::Image(match t {
-                    ImageRef::File(f) => Arc::new(crate::io::texture::read_texture_as(
-                        &base_dir.join(f),
-                        Encoding::Linear,
-                    )?),
-                    ImageRef::Decoded(d) => d.0.clone(),
-                }))
+            let data = |t: &ImageRef| -> Result<MappedTexture> {
+                Ok(match t {
+                    ImageRef::File(f) => Texture::Image(Arc::new(
+                        crate::io::texture::read_texture_as(&base_dir.join(f), Encoding::Linear)?,
+                    ))
+                    .into(),
+                    ImageRef::Decoded(d) => MappedTexture {
+                        texture: Texture::Image(d.image.clone()),
+                        mapping: d.mapping,
+                    },
+                })
             };
             let maps = TextureMaps {
                 base: texture,
@@ -255,6 +264,7 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
                     Some((t, scale)) => Some((data(t)?, *scale)),
                     None => None,
                 },
+                coverage: p.coverage,
             };
             let pbr = Pbr::new(base, p.metallic, p.roughness).with_specular(p.specular);
             b.material_with_maps(Material::Pbr(pbr), maps)?
@@ -263,21 +273,30 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
 }
 
 /// A colour spec as a constant and an optional texture that multiplies it.
-fn color(spec: &ColorSpec, base_dir: &Path) -> Result<(Rgb, Option<Texture>)> {
+fn color(spec: &ColorSpec, base_dir: &Path) -> Result<(Rgb, Option<MappedTexture>)> {
     Ok(match spec {
         ColorSpec::Constant(c) => (*c, None),
         ColorSpec::Image { file, tint } => {
             let t = crate::io::texture::read_texture(&base_dir.join(file))?;
-            (*tint, Some(Texture::Image(Arc::new(t))))
+            (*tint, Some(Texture::Image(Arc::new(t)).into()))
         }
-        ColorSpec::Decoded { texture, tint } => (*tint, Some(Texture::Image(texture.0.clone()))),
+        ColorSpec::Decoded { texture, tint } => (
+            *tint,
+            Some(MappedTexture {
+                texture: Texture::Image(texture.image.clone()),
+                mapping: texture.mapping,
+            }),
+        ),
         ColorSpec::Checker { even, odd, scale } => (
             Rgb::ONE,
-            Some(Texture::Checker(Checker {
-                even: *even,
-                odd: *odd,
-                scale: *scale,
-            })),
+            Some(
+                Texture::Checker(Checker {
+                    even: *even,
+                    odd: *odd,
+                    scale: *scale,
+                })
+                .into(),
+            ),
         ),
     })
 }
@@ -301,17 +320,24 @@ fn radiance(e: &EmissionSpec, area: f32, base_dir: &Path) -> Result<Emission> {
             radiance,
             two_sided,
             texture,
-        } => Emission {
-            radiance: *radiance,
-            two_sided: *two_sided,
-            texture: match texture {
-                None => None,
-                Some(ImageRef::File(f)) => Some(Arc::new(crate::io::texture::read_texture(
-                    &base_dir.join(f),
-                )?)),
-                Some(ImageRef::Decoded(t)) => Some(t.0.clone()),
-            },
-        },
+        } => {
+            let (texture, texture_mapping) = match texture {
+                None => (None, UvMapping::IDENTITY),
+                Some(ImageRef::File(f)) => (
+                    Some(Arc::new(crate::io::texture::read_texture(
+                        &base_dir.join(f),
+                    )?)),
+                    UvMapping::IDENTITY,
+                ),
+                Some(ImageRef::Decoded(t)) => (Some(t.image.clone()), t.mapping),
+            };
+            Emission {
+                radiance: *radiance,
+                two_sided: *two_sided,
+                texture,
+                texture_mapping,
+            }
+        }
         EmissionSpec::Power { power, two_sided } => {
             if area.is_nan() || area <= 0.0 {
                 return Err(Error::InvalidScene(
@@ -324,6 +350,7 @@ fn radiance(e: &EmissionSpec, area: f32, base_dir: &Path) -> Result<Emission> {
                 radiance: *power / (sides * PI * area),
                 two_sided: *two_sided,
                 texture: None,
+                texture_mapping: UvMapping::IDENTITY,
             }
         }
     })
@@ -522,6 +549,7 @@ fn smooth_mesh(mesh: &PolyMesh) -> TriangleMesh {
         positions: mesh.positions.iter().map(|p| p.as_vec3()).collect(),
         normals: mesh.vertex_normals().iter().map(|n| n.as_vec3()).collect(),
         uvs: Vec::new(),
+        second_uvs: Vec::new(),
         tangents: Vec::new(),
         triangles: mesh.triangles(),
     }

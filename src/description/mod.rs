@@ -37,6 +37,10 @@ pub struct SceneDesc {
     pub base_dir: PathBuf,
     /// Where the camera, shapes and lights were written, for messages from the scene build.
     pub origins: source::Origins,
+    /// The warning that says the scene is lit by a sky the importer added (a glTF file
+    /// without enough light of its own). It stands in the loader's warnings while that sky
+    /// does: [`SceneDesc::set_environment`] clears it.
+    pub default_sky_warning: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -130,6 +134,8 @@ pub struct PbrSpec {
     pub metallic_roughness: Option<ImageRef>,
     /// Tangent-space normal map and the scale of its x and y.
     pub normal_map: Option<(ImageRef, f32)>,
+    /// Where the surface is there (glTF's `alphaMode`): opaque, cut out or blended.
+    pub coverage: crate::scene::Coverage,
 }
 
 /// An image a material or emitter names: a file, or one already decoded. Colour images
@@ -179,13 +185,17 @@ pub enum ColorSpec {
     },
 }
 
-/// A decoded texture shared between materials; equal when it is the same allocation.
+/// A decoded texture shared between materials, with how this use of it is mapped; equal
+/// when it is the same allocation mapped the same way.
 #[derive(Clone, Debug)]
-pub struct SharedTexture(pub std::sync::Arc<crate::texture::ImageTexture>);
+pub struct SharedTexture {
+    pub image: std::sync::Arc<crate::texture::ImageTexture>,
+    pub mapping: crate::texture::UvMapping,
+}
 
 impl PartialEq for SharedTexture {
     fn eq(&self, other: &Self) -> bool {
-        std::sync::Arc::ptr_eq(&self.0, &other.0)
+        std::sync::Arc::ptr_eq(&self.image, &other.image) && self.mapping == other.mapping
     }
 }
 
@@ -315,7 +325,7 @@ pub enum LightSpec {
     /// Light from one direction (the sun): irradiance in W/m² on a surface facing it.
     Directional { direction: Vec3, irradiance: Rgb },
     /// An emissive shape (disk, quad, sphere, mesh …).
-    Area(ShapeSpec),
+    Area(Box<ShapeSpec>),
     /// The sky: light from every direction, at most one per scene.
     Environment(EnvironmentSpec),
 }
@@ -339,6 +349,7 @@ impl SceneDesc {
             lights: Vec::new(),
             base_dir: PathBuf::new(),
             origins: source::Origins::default(),
+            default_sky_warning: None,
         }
     }
 
@@ -353,6 +364,7 @@ impl SceneDesc {
 
     /// Add an environment light, replacing the scene's own if it has one.
     pub fn set_environment(&mut self, e: EnvironmentSpec) {
+        self.default_sky_warning = None;
         self.lights
             .retain(|l| !matches!(l, LightSpec::Environment(_)));
         self.lights.push(LightSpec::Environment(e));
@@ -438,7 +450,14 @@ pub fn load_scene_edited(
     edit: impl FnOnce(&mut SceneDesc) -> Result<()>,
 ) -> Result<(Scene, Loaded)> {
     let mut loaded = load(name_or_path)?;
+    let default_sky_warning = loaded.desc.default_sky_warning.clone();
     edit(&mut loaded.desc)?;
+    if let Some(w) = default_sky_warning
+        && loaded.desc.default_sky_warning.is_none()
+    {
+        // The edit gave the scene its own sky: the warning about the default one is void.
+        loaded.warnings.retain(|x| *x != w);
+    }
     let mut scene = build::build_with(&loaded.desc, &mut loaded.meshes)?;
     if !builtin::BUILTINS.iter().any(|b| b.name == name_or_path) {
         let path = Path::new(name_or_path);

@@ -76,6 +76,11 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 }
             }
             MaterialSpec::Pbr(p) => {
+                if p.coverage != crate::scene::Coverage::Opaque {
+                    return Err(Error::InvalidScene(format!(
+                        "material '{name}' is cut out or blended (glTF alphaMode), which a TOML scene cannot say; include the glTF file as a mesh instead"
+                    )));
+                }
                 w.kv("type", "\"pbr\"");
                 let base = w.color_spec(&p.base_color)?;
                 w.kv("base_color", &base);

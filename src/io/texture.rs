@@ -57,6 +57,22 @@ pub fn decode_texture_as(bytes: &[u8], name: &Path, encoding: Encoding) -> Resul
         )));
     }
     let decoded = image::load_from_memory(bytes).map_err(|e| bad(e.to_string()))?;
+    // Alpha is kept (linear, glTF 2.0 §3.9.2: the sRGB transfer applies to RGB only) where
+    // the image has a channel for it and uses it.
+    let alpha: Vec<f32> = if decoded.color().has_alpha() {
+        decoded
+            .to_rgba8()
+            .pixels()
+            .map(|p| f32::from(p[3]) / 255.0)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let alpha = if alpha.iter().all(|&a| a == 1.0) {
+        Vec::new()
+    } else {
+        alpha
+    };
     let rgb = decoded.to_rgb8();
     // 256-entry table: the same decode for every texel, cheap.
     let table: Vec<f32> = (0..=255u8)
@@ -79,6 +95,7 @@ pub fn decode_texture_as(bytes: &[u8], name: &Path, encoding: Encoding) -> Resul
         width: rgb.width(),
         height: rgb.height(),
         texels,
+        alpha,
     })
 }
 

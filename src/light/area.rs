@@ -2,7 +2,7 @@ use super::{LightSample, PhotonEmission};
 use crate::geometry::{Shape, ShapeHit};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution1D, cosine_hemisphere};
-use crate::texture::ImageTexture;
+use crate::texture::{ImageTexture, UvMapping};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -23,6 +23,8 @@ pub struct AreaLight {
 #[derive(Clone, Debug)]
 struct EmissionTexture {
     image: Arc<ImageTexture>,
+    /// The coordinate set, transform and wrap the image is read with.
+    mapping: UvMapping,
     /// Per shape, its vertices' coordinates (triangles of meshes with UVs); otherwise the
     /// shape's own parametrisation, as for any texture ([`Shape::uv`]).
     uvs: Option<Vec<[Vec2; 3]>>,
@@ -46,11 +48,17 @@ impl AreaLight {
     }
 
     /// The same light with its radiance multiplied by `image` at each point's texture
-    /// coordinates (`uvs`: per shape, as the scene keeps them).
-    pub fn with_texture(mut self, image: Arc<ImageTexture>, uvs: Option<Vec<[Vec2; 3]>>) -> Self {
+    /// coordinates (`uvs`: per shape, as the scene keeps them, of the set `mapping` names).
+    pub fn with_texture(
+        mut self,
+        image: Arc<ImageTexture>,
+        mapping: UvMapping,
+        uvs: Option<Vec<[Vec2; 3]>>,
+    ) -> Self {
         let uvs = uvs.filter(|u| u.len() == self.shapes.len());
         let mut texture = EmissionTexture {
             image,
+            mapping,
             uvs,
             power: Rgb::ZERO,
         };
@@ -92,11 +100,17 @@ impl AreaLight {
         self.texture.is_some()
     }
 
-    /// Radiance leaving a point with normal `n` and texture coordinates `uv` in direction `w`.
+    /// The texture coordinate set the emission texture reads (0 when there is none).
+    pub fn texture_uv_set(&self) -> u8 {
+        self.texture.as_ref().map_or(0, |t| t.mapping.set)
+    }
+
+    /// Radiance leaving a point with normal `n` and texture coordinates `uv` (of the set
+    /// [`AreaLight::texture_uv_set`] names) in direction `w`.
     pub fn emitted_at(&self, n: Vec3, w: Vec3, uv: Vec2) -> Rgb {
         let l = self.emitted(n, w);
         match &self.texture {
-            Some(t) if l != Rgb::ZERO => l * t.image.eval(uv),
+            Some(t) if l != Rgb::ZERO => l * t.read(uv),
             _ => l,
         }
     }
@@ -186,6 +200,14 @@ impl AreaLight {
 }
 
 impl EmissionTexture {
+    /// The image at coordinates `uv` of the mapping's set, transformed and wrapped.
+    fn read(&self, uv: Vec2) -> Rgb {
+        self.image.eval_wrapped(
+            self.mapping.transform.transform_point2(uv),
+            self.mapping.wrap,
+        )
+    }
+
     /// The texture at point `p` of shape `i`.
     fn at(&self, shape: &Shape, i: usize, p: Vec3) -> Rgb {
         let bary = match shape {
@@ -199,6 +221,6 @@ impl EmissionTexture {
             }
             None => shape.uv(&ShapeHit { t: 0.0, uv: bary }, p),
         };
-        self.image.eval(uv)
+        self.read(uv)
     }
 }

@@ -1,4 +1,4 @@
-use super::{MaterialMaps, NO_LIGHT, Scene, TriangleMesh};
+use super::{Coverage, MaterialMaps, NO_LIGHT, Scene, TriangleMesh};
 use crate::accel::RayEngine;
 use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
@@ -7,7 +7,7 @@ use crate::light::{AreaLight, DirectionalLight, EnvironmentLight, Light, PointLi
 use crate::material::Material;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
-use crate::texture::Texture;
+use crate::texture::{MappedTexture, Texture, UvMapping};
 use glam::Affine3A;
 use std::sync::Arc;
 
@@ -22,6 +22,8 @@ pub struct Emission {
     pub radiance: Rgb,
     pub two_sided: bool,
     pub texture: Option<Arc<crate::texture::ImageTexture>>,
+    /// How `texture` is read (coordinate set, transform, wrap).
+    pub texture_mapping: UvMapping,
 }
 
 struct Object {
@@ -30,21 +32,26 @@ struct Object {
     normals: Option<Vec<[Vec3; 3]>>,
     /// Per-vertex texture coordinates of each triangle, parallel to `shapes`.
     uvs: Option<Vec<[Vec2; 3]>>,
+    /// The second coordinate set of each triangle, parallel to `shapes`.
+    second_uvs: Option<Vec<[Vec2; 3]>>,
     /// Per-vertex tangents of each triangle (world space, w the bitangent's sign).
     tangents: Option<Vec<[glam::Vec4; 3]>>,
     material: u32,
     emission: Option<Emission>,
 }
 
-/// The textures a material may carry (see [`SceneBuilder::material_with_maps`]).
+/// The textures a material may carry (see [`SceneBuilder::material_with_maps`]), each with
+/// its own mapping, and the material's coverage.
 #[derive(Clone, Debug, Default)]
 pub struct TextureMaps {
-    /// Multiplies the albedo or base colour (sRGB-decoded).
-    pub base: Option<Texture>,
+    /// Multiplies the albedo or base colour (sRGB-decoded); its alpha is the coverage's.
+    pub base: Option<MappedTexture>,
     /// glTF's packing, linear: blue multiplies metallic, green roughness.
-    pub metallic_roughness: Option<Texture>,
+    pub metallic_roughness: Option<MappedTexture>,
     /// Tangent-space normals (linear, 2·value − 1) and the scale of their x and y.
-    pub normal: Option<(Texture, f32)>,
+    pub normal: Option<(MappedTexture, f32)>,
+    /// Where the surface is there at all (cut-outs, partly transparent surfaces).
+    pub coverage: Coverage,
 }
 
 /// Collects objects, materials and lights, then validates them into a [`Scene`].
@@ -52,7 +59,7 @@ pub struct SceneBuilder {
     name: String,
     materials: Vec<Material>,
     material_textures: Vec<MaterialMaps>,
-    textures: Vec<Texture>,
+    textures: Vec<MappedTexture>,
     objects: Vec<Object>,
     lights: Vec<Light>,
     camera: Option<CameraDesc>,
@@ -105,7 +112,7 @@ impl SceneBuilder {
         self.material_with_maps(
             m,
             TextureMaps {
-                base: Some(texture),
+                base: Some(texture.into()),
                 ..TextureMaps::default()
             },
         )
@@ -125,7 +132,21 @@ impl SceneBuilder {
                 "only pbr materials take metallic-roughness and normal maps".into(),
             ));
         }
-        let mut push = |t: Option<Texture>| {
+        if let Coverage::Mask { alpha, cutoff } = maps.coverage
+            && !(alpha.is_finite() && cutoff.is_finite())
+        {
+            return Err(Error::InvalidScene(format!(
+                "a material's alpha {alpha} and cutoff {cutoff} must be finite"
+            )));
+        }
+        if let Coverage::Blend { alpha } = maps.coverage
+            && !alpha.is_finite()
+        {
+            return Err(Error::InvalidScene(format!(
+                "a material's alpha {alpha} must be finite"
+            )));
+        }
+        let mut push = |t: Option<MappedTexture>| {
             t.map(|t| {
                 self.textures.push(t);
                 (self.textures.len() - 1) as u32
@@ -137,6 +158,7 @@ impl SceneBuilder {
             metallic_roughness: push(maps.metallic_roughness),
             normal: push(maps.normal.map(|n| n.0)),
             normal_scale,
+            coverage: maps.coverage,
         };
         self.materials.push(m);
         self.material_textures.push(ids);
@@ -148,6 +170,7 @@ impl SceneBuilder {
             shapes,
             normals: None,
             uvs: None,
+            second_uvs: None,
             tangents: None,
             material,
             emission,
@@ -188,6 +211,7 @@ impl SceneBuilder {
             positions: positions.to_vec(),
             normals: normals.to_vec(),
             uvs: Vec::new(),
+            second_uvs: Vec::new(),
             tangents: Vec::new(),
             triangles: triangles.to_vec(),
         };
@@ -207,6 +231,7 @@ impl SceneBuilder {
             positions: positions.to_vec(),
             normals: Vec::new(),
             uvs: Vec::new(),
+            second_uvs: Vec::new(),
             tangents: Vec::new(),
             triangles: triangles.to_vec(),
         };
@@ -227,6 +252,7 @@ impl SceneBuilder {
         for (what, len) in [
             ("normals", mesh.normals.len()),
             ("uvs", mesh.uvs.len()),
+            ("second uvs", mesh.second_uvs.len()),
             ("tangents", mesh.tangents.len()),
         ] {
             if len != 0 && len != n {
@@ -264,6 +290,7 @@ impl SceneBuilder {
         let mut shapes = Vec::with_capacity(mesh.triangles.len());
         let mut normals = Vec::new();
         let mut uvs = Vec::new();
+        let mut second_uvs = Vec::new();
         let mut tangents = Vec::new();
         for (k, t) in mesh.triangles.iter().enumerate() {
             if let Some(&i) = t.iter().find(|&&i| i as usize >= n) {
@@ -287,6 +314,9 @@ impl SceneBuilder {
                 if !mesh.uvs.is_empty() {
                     uvs.push(t.map(|i| mesh.uvs[i as usize]));
                 }
+                if !mesh.second_uvs.is_empty() {
+                    second_uvs.push(t.map(|i| mesh.second_uvs[i as usize]));
+                }
                 if !world_tangents.is_empty() {
                     tangents.push(t.map(|i| world_tangents[i as usize]));
                 }
@@ -296,6 +326,7 @@ impl SceneBuilder {
             shapes,
             normals: (!normals.is_empty()).then_some(normals),
             uvs: (!uvs.is_empty()).then_some(uvs),
+            second_uvs: (!second_uvs.is_empty()).then_some(second_uvs),
             tangents: (!tangents.is_empty()).then_some(tangents),
             material,
             emission,
@@ -331,6 +362,7 @@ impl SceneBuilder {
             shapes,
             normals: None,
             uvs: (!uvs.is_empty()).then_some(uvs),
+            second_uvs: None,
             tangents: None,
             material,
             emission,
@@ -418,6 +450,7 @@ impl SceneBuilder {
         let mut prim_normals = Vec::new();
         let mut vertex_normals = Vec::new();
         let mut prim_uvs = Vec::new();
+        let mut prim_second_uvs = Vec::new();
         let mut vertex_uvs = Vec::new();
         let mut prim_tangents = Vec::new();
         let mut vertex_tangents = Vec::new();
@@ -455,7 +488,13 @@ impl SceneBuilder {
                     }
                     let light = AreaLight::new(o.shapes.clone(), e.radiance, e.two_sided);
                     let light = match (light, e.texture) {
-                        (Some(l), Some(t)) => Some(l.with_texture(t, o.uvs.clone())),
+                        (Some(l), Some(t)) => {
+                            let uvs = match (e.texture_mapping.set, &o.second_uvs) {
+                                (1, Some(second)) => Some(second.clone()),
+                                _ => o.uvs.clone(),
+                            };
+                            Some(l.with_texture(t, e.texture_mapping, uvs))
+                        }
                         (l, _) => l,
                     };
                     match light {
@@ -486,6 +525,13 @@ impl SceneBuilder {
                     }
                     _ => prim_uvs.push(NO_LIGHT),
                 }
+                match o.second_uvs.as_ref().and_then(|uv| uv.get(k)) {
+                    Some(uv) if uv.iter().all(|v| v.is_finite()) => {
+                        vertex_uvs.push(*uv);
+                        prim_second_uvs.push((vertex_uvs.len() - 1) as u32);
+                    }
+                    _ => prim_second_uvs.push(NO_LIGHT),
+                }
                 match o.tangents.as_ref().and_then(|t| t.get(k)) {
                     Some(t)
                         if t.iter()
@@ -498,13 +544,18 @@ impl SceneBuilder {
                 }
             }
         }
-        let (rays, order) = super::rays::RayCaster::build(&shapes, self.ray_engine)?;
+        let covered_partly =
+            |m: &u32| self.material_textures[*m as usize].coverage != Coverage::Opaque;
+        let refusable: Vec<bool> = prim_material.iter().map(covered_partly).collect();
+        let has_partial_coverage = refusable.contains(&true);
+        let (rays, order) = super::rays::RayCaster::build(&shapes, &refusable, self.ray_engine)?;
         fit_directional_lights(&mut lights, &rays.bounds());
         let reorder = |v: &[u32]| order.iter().map(|&i| v[i as usize]).collect::<Vec<u32>>();
         let prim_material = reorder(&prim_material);
         let prim_light = reorder(&prim_light);
         let prim_normals = reorder(&prim_normals);
         let prim_uvs = reorder(&prim_uvs);
+        let prim_second_uvs = reorder(&prim_second_uvs);
         let prim_tangents = reorder(&prim_tangents);
         let shapes = order.iter().map(|&i| shapes[i as usize]).collect();
         let powers: Vec<f64> = lights
@@ -527,12 +578,14 @@ impl SceneBuilder {
             prim_normals,
             vertex_normals,
             prim_uvs,
+            prim_second_uvs,
             vertex_uvs,
             prim_tangents,
             vertex_tangents,
             materials: self.materials,
             material_textures: self.material_textures,
             textures: self.textures,
+            has_partial_coverage,
             light_choice: Distribution1D::new(&powers),
             lights,
             camera,

@@ -9,14 +9,16 @@ mod rays;
 pub use builder::{Emission, SceneBuilder, TextureMaps};
 
 /// An indexed triangle mesh in object space, as read from a file or built in code. `normals`,
-/// `uvs` and `tangents` are per vertex and may be empty (flat shading, the triangle's own
-/// parametrisation, tangents from the UVs). A tangent is glTF's: xyz along +u, w the sign of
-/// the bitangent (w·n × t).
+/// `uvs`, `second_uvs` and `tangents` are per vertex and may be empty (flat shading, the
+/// triangle's own parametrisation, tangents from the UVs). A tangent is glTF's: xyz along +u,
+/// w the sign of the bitangent (w·n × t).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleMesh {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
+    /// A second coordinate set (glTF's `TEXCOORD_1`), read by textures that name it.
+    pub second_uvs: Vec<Vec2>,
     pub tangents: Vec<glam::Vec4>,
     pub triangles: Vec<[u32; 3]>,
 }
@@ -28,15 +30,31 @@ use crate::light::{EnvironmentLight, Light};
 use crate::material::{Material, Pbr};
 use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
-use crate::texture::Texture;
+use crate::texture::{MappedTexture, Texture};
 
-/// Indices of a material's textures in the scene's texture list.
+/// Indices of a material's textures in the scene's texture list, and its coverage.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct MaterialMaps {
     pub base: Option<u32>,
     pub metallic_roughness: Option<u32>,
     pub normal: Option<u32>,
     pub normal_scale: f32,
+    pub coverage: Coverage,
+}
+
+/// How much of a surface is there (glTF 2.0 §3.9.4, `alphaMode`). Its alpha is `alpha`
+/// times the base-colour texture's alpha where the material has one.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Coverage {
+    /// Everywhere (alpha is ignored).
+    #[default]
+    Opaque,
+    /// A cut-out: the surface is absent where its alpha is below `cutoff`.
+    Mask { alpha: f32, cutoff: f32 },
+    /// Partly there: each ray meets it with probability alpha, decided by a hash of the ray
+    /// and the primitive (stochastic transparency, as pbrt-v4's alpha test), so a ray always
+    /// gets the same answer and images stay deterministic.
+    Blend { alpha: f32 },
 }
 
 /// Marks a primitive that is not part of an area light.
@@ -95,6 +113,9 @@ pub struct Scene {
     vertex_normals: Vec<[Vec3; 3]>,
     /// Index into `vertex_uvs` per primitive, or `NO_LIGHT` for the shape's own parametrisation.
     prim_uvs: Vec<u32>,
+    /// Index into `vertex_uvs` of each primitive's second coordinate set, or `NO_LIGHT` (then
+    /// textures that name the second set read the first).
+    prim_second_uvs: Vec<u32>,
     vertex_uvs: Vec<[Vec2; 3]>,
     /// Index into `vertex_tangents` per primitive, or `NO_LIGHT` for tangents from the UVs.
     prim_tangents: Vec<u32>,
@@ -102,7 +123,10 @@ pub struct Scene {
     materials: Vec<Material>,
     /// The textures of each material (parallel to `materials`).
     material_textures: Vec<MaterialMaps>,
-    textures: Vec<Texture>,
+    textures: Vec<MappedTexture>,
+    /// Whether any material is not [`Coverage::Opaque`]: only then do ray queries test
+    /// coverage at each candidate hit.
+    has_partial_coverage: bool,
     lights: Vec<Light>,
     light_choice: Option<Distribution1D>,
     pub camera: CameraDesc,
@@ -119,10 +143,20 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Closest intersection along `ray` nearer than `t_max`.
+    /// Closest intersection along `ray` nearer than `t_max`, skipping the parts of surfaces
+    /// their coverage leaves out (so every integrator, camera ray, shadow ray and photon
+    /// sees the same cut-outs).
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let (prim, shape_hit) = self.rays.closest_hit(&self.shapes, ray, t_max)?;
+        let (prim, shape_hit) = if self.has_partial_coverage {
+            self.rays
+                .closest_hit(&self.shapes, ray, t_max, |prim, hit| {
+                    self.covers(prim, hit, ray)
+                })?
+        } else {
+            self.rays
+                .closest_hit(&self.shapes, ray, t_max, |_, _| true)?
+        };
         let surface = self.shapes[prim as usize].surface(ray, &shape_hit);
         let ns = match self.prim_normals[prim as usize] {
             NO_LIGHT => surface.n,
@@ -145,11 +179,38 @@ impl Scene {
         })
     }
 
-    /// Whether anything blocks the segment from `origin` along unit `dir` up to `dist`.
+    /// Whether anything blocks the segment from `origin` along unit `dir` up to `dist`
+    /// (surfaces' coverage as in [`Scene::intersect`]).
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, dist: f32) -> bool {
         let ray = Ray::new(origin, dir);
-        self.rays.any_hit(&self.shapes, &ray, dist)
+        if self.has_partial_coverage {
+            self.rays.any_hit(&self.shapes, &ray, dist, |prim, hit| {
+                self.covers(prim, hit, &ray)
+            })
+        } else {
+            self.rays.any_hit(&self.shapes, &ray, dist, |_, _| true)
+        }
+    }
+
+    /// Whether a candidate hit on `prim` along `ray` is on the surface its coverage keeps.
+    fn covers(&self, prim: u32, hit: &crate::geometry::ShapeHit, ray: &Ray) -> bool {
+        let maps = &self.material_textures[self.prim_material[prim as usize] as usize];
+        let (factor, cutoff) = match maps.coverage {
+            Coverage::Opaque => return true,
+            Coverage::Mask { alpha, cutoff } => (alpha, Some(cutoff)),
+            Coverage::Blend { alpha } => (alpha, None),
+        };
+        let alpha = factor
+            * maps.base.map_or(1.0, |t| {
+                let texture = &self.textures[t as usize];
+                let uv = self.uv_at(prim, hit, ray.at(hit.t), texture.mapping.set);
+                texture.alpha(uv)
+            });
+        match cutoff {
+            Some(cutoff) => alpha >= cutoff,
+            None => alpha >= 1.0 || (alpha > 0.0 && blend_hash(ray, prim) < alpha),
+        }
     }
 
     /// The ray caster this scene was built with (never [`RayEngine::Best`]).
@@ -181,10 +242,7 @@ impl Scene {
         if maps.base.is_none() && maps.metallic_roughness.is_none() {
             return m;
         }
-        let uv = self.texture_uv(hit);
-        let base = maps
-            .base
-            .map_or(Rgb::ONE, |t| self.textures[t as usize].eval(uv));
+        let base = maps.base.map_or(Rgb::ONE, |t| self.lookup(t, hit));
         match m {
             Material::Lambertian(mut l) => {
                 l.albedo *= base;
@@ -193,7 +251,7 @@ impl Scene {
             Material::Pbr(p) => {
                 let (mut metallic, mut roughness) = (p.metallic, p.roughness);
                 if let Some(t) = maps.metallic_roughness {
-                    let mr = self.textures[t as usize].eval(uv);
+                    let mr = self.lookup(t, hit);
                     metallic *= mr.z;
                     roughness *= mr.y;
                 }
@@ -230,11 +288,15 @@ impl Scene {
         let Shape::Triangle(tri) = &self.shapes[hit.prim as usize] else {
             return None;
         };
-        let k = self.prim_uvs[hit.prim as usize];
+        let map = &self.textures[texture as usize];
+        let k = self.set_index(hit.prim, map.mapping.set);
         if k == NO_LIGHT {
             return None;
         }
-        let [a, b, c] = self.vertex_uvs[k as usize];
+        // The tangent frame follows the coordinates the map is read with (its set and
+        // transform: a rotated normal map turns its frame with it).
+        let [a, b, c] =
+            self.vertex_uvs[k as usize].map(|uv| map.mapping.transform.transform_point2(uv));
         let (d1, d2) = (b - a, c - a);
         let det = d1.x * d2.y - d1.y * d2.x;
         if det.abs() < 1e-12 {
@@ -244,8 +306,9 @@ impl Scene {
         let dpdv = (tri.e2 * d1.x - tri.e1 * d2.x) / det;
         let n = hit.ns;
         let (tangent, bitangent) = match self.prim_tangents[hit.prim as usize] {
-            // The file's tangents (glTF: interpolated, bitangent w·n × t).
-            k if k != NO_LIGHT => {
+            // The file's tangents (glTF: interpolated, bitangent w·n × t), which follow the
+            // first coordinate set as it is.
+            k if k != NO_LIGHT && map.mapping.reads_first_set_unchanged() => {
                 let [t0, t1, t2] = self.vertex_tangents[k as usize];
                 let (b1, b2) = (hit.barycentrics.x, hit.barycentrics.y);
                 let t = ((1.0 - b1 - b2) * t0 + b1 * t1 + b2 * t2).truncate();
@@ -265,7 +328,7 @@ impl Scene {
                 )
             }
         };
-        let t = self.textures[texture as usize].eval(self.texture_uv(hit)) * 2.0 - Rgb::ONE;
+        let t = self.lookup(texture, hit) * 2.0 - Rgb::ONE;
         let mapped =
             (tangent * (t.x * scale) + bitangent * (t.y * scale) + n * t.z).try_normalize()?;
         (mapped.dot(hit.ng) > 0.0).then_some(mapped)
@@ -274,20 +337,42 @@ impl Scene {
     /// Texture coordinates at a hit: interpolated vertex UVs on meshes that have them, else
     /// the shape's own parametrisation (barycentrics, spherical angles, polar disk coordinates).
     pub fn texture_uv(&self, hit: &Hit) -> Vec2 {
-        let (b1, b2) = (hit.barycentrics.x, hit.barycentrics.y);
-        match self.prim_uvs[hit.prim as usize] {
-            NO_LIGHT => {
-                let shape_hit = crate::geometry::ShapeHit {
-                    t: hit.t,
-                    uv: hit.barycentrics,
-                };
-                self.shapes[hit.prim as usize].uv(&shape_hit, hit.p)
-            }
+        self.uv_in_set(hit, 0)
+    }
+
+    /// Texture coordinates of set `set` (0 or 1) at a hit; where a mesh has no second set,
+    /// the first.
+    pub fn uv_in_set(&self, hit: &Hit, set: u8) -> Vec2 {
+        let shape_hit = crate::geometry::ShapeHit {
+            t: hit.t,
+            uv: hit.barycentrics,
+        };
+        self.uv_at(hit.prim, &shape_hit, hit.p, set)
+    }
+
+    fn uv_at(&self, prim: u32, hit: &crate::geometry::ShapeHit, p: Vec3, set: u8) -> Vec2 {
+        match self.set_index(prim, set) {
+            NO_LIGHT => self.shapes[prim as usize].uv(hit, p),
             k => {
+                let (b1, b2) = (hit.uv.x, hit.uv.y);
                 let [a, b, c] = self.vertex_uvs[k as usize];
                 (1.0 - b1 - b2) * a + b1 * b + b2 * c
             }
         }
+    }
+
+    /// Index into `vertex_uvs` of a primitive's coordinate set `set`, or `NO_LIGHT`.
+    fn set_index(&self, prim: u32, set: u8) -> u32 {
+        match self.prim_second_uvs[prim as usize] {
+            k if set == 1 && k != NO_LIGHT => k,
+            _ => self.prim_uvs[prim as usize],
+        }
+    }
+
+    /// Texture `t` of the scene's list at a hit, read through its own mapping.
+    fn lookup(&self, t: u32, hit: &Hit) -> Rgb {
+        let texture = &self.textures[t as usize];
+        texture.eval(self.uv_in_set(hit, texture.mapping.set))
     }
 
     pub fn lights(&self) -> &[Light] {
@@ -300,7 +385,9 @@ impl Scene {
             return Rgb::ZERO;
         }
         match &self.lights[hit.light as usize] {
-            Light::Area(l) if l.is_textured() => l.emitted_at(hit.ng, w, self.texture_uv(hit)),
+            Light::Area(l) if l.is_textured() => {
+                l.emitted_at(hit.ng, w, self.uv_in_set(hit, l.texture_uv_set()))
+            }
             Light::Area(l) => l.emitted(hit.ng, w),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => {
                 Rgb::ZERO
@@ -371,12 +458,16 @@ impl Scene {
             h.write(format!("{t:?}").as_bytes());
         }
         for t in &self.textures {
-            match t {
+            h.write(format!("{:?}", t.mapping).as_bytes());
+            match &t.texture {
                 Texture::Checker(c) => h.write(format!("{c:?}").as_bytes()),
                 Texture::Image(i) => {
                     h.write(format!("{}x{}", i.width, i.height).as_bytes());
                     for v in &i.texels {
                         h.write(bytemuck::bytes_of(&v.to_array()));
+                    }
+                    for a in &i.alpha {
+                        h.write(&a.to_le_bytes());
                     }
                 }
             }
@@ -450,6 +541,17 @@ impl Scene {
     pub fn total_power(&self) -> Rgb {
         self.lights.iter().map(Light::power).sum()
     }
+}
+
+/// A number in [0, 1) that is a hash of a ray (origin and direction) and a primitive: the
+/// draw that decides whether a [`Coverage::Blend`] surface is met. pbrt-v4 hashes the ray the
+/// same way (`HashFloat(ray.o, ray.d)`); the primitive makes layers along one ray independent.
+fn blend_hash(ray: &Ray, prim: u32) -> f32 {
+    let mut h = u64::from(prim);
+    for x in ray.origin.to_array().into_iter().chain(ray.dir.to_array()) {
+        h = crate::sampling::mix64(h ^ u64::from(x.to_bits()));
+    }
+    (h >> 40) as f32 / (1u64 << 24) as f32
 }
 
 /// 64-bit FNV-1a: simple, stable across platforms and versions.

@@ -165,7 +165,7 @@ pub fn desc() -> SceneDesc {
     };
     d.shape(sphere(Vec3::new(0.1855, 0.245, 0.169)), &glass);
     d.shape(sphere(Vec3::new(0.3685, 0.41, 0.35125)), &mirror);
-    d.lights.push(LightSpec::Area(ShapeSpec {
+    d.lights.push(LightSpec::Area(Box::new(ShapeSpec {
         kind: quad(&LIGHT),
         material: None,
         transform: Vec::new(),
@@ -174,6 +174,6 @@ pub fn desc() -> SceneDesc {
             two_sided: false,
             texture: None,
         }),
-    }));
+    })));
     d
 }

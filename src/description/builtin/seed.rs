@@ -137,7 +137,7 @@ pub fn desc() -> SceneDesc {
     );
 
     // A one-sided disk light of radius 1 facing down, given by its power (L = Φ / (π · area)).
-    d.lights.push(LightSpec::Area(ShapeSpec {
+    d.lights.push(LightSpec::Area(Box::new(ShapeSpec {
         kind: ShapeKind::Disk {
             center: v(-2.78, 2.50351, 5.46605),
             normal: -Vec3::Z,
@@ -149,7 +149,7 @@ pub fn desc() -> SceneDesc {
             power: Rgb::splat(LIGHT_POWER),
             two_sided: false,
         }),
-    }));
+    })));
     d
 }
 

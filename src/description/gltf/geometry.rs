@@ -36,13 +36,6 @@ pub(super) fn read_parts(
             for n in &mut part.normals {
                 *n = (normal_matrix * *n).normalize_or_zero();
             }
-            let base_color = primitive
-                .material()
-                .pbr_metallic_roughness()
-                .base_color_texture();
-            if let Some(t) = base_color.and_then(|info| info.texture_transform()) {
-                transform_uvs(&mut part.uvs, t.offset(), t.rotation(), t.scale());
-            }
             let key = primitive.material().index();
             let material = match materials.get(&key) {
                 Some(m) => m.clone(),
@@ -137,15 +130,16 @@ fn read_primitive(g: &Opened, p: &gltf::Primitive, what: &str) -> Result<Triangl
     if let Some(t) = &tangents {
         check_accessor(g, t, what, &[Dimensions::Vec4], &[DataType::F32])?;
     }
-    let uvs = p.get(&Semantic::TexCoords(0));
-    if let Some(t) = &uvs {
-        check_accessor(
-            g,
-            t,
-            what,
-            &[Dimensions::Vec2],
-            &[DataType::F32, DataType::U8, DataType::U16],
-        )?;
+    for set in [0, 1] {
+        if let Some(t) = &p.get(&Semantic::TexCoords(set)) {
+            check_accessor(
+                g,
+                t,
+                what,
+                &[Dimensions::Vec2],
+                &[DataType::F32, DataType::U8, DataType::U16],
+            )?;
+        }
     }
     if let Some(i) = p.indices() {
         check_accessor(
@@ -172,9 +166,12 @@ fn read_primitive(g: &Opened, p: &gltf::Primitive, what: &str) -> Result<Triangl
     if let Some(it) = reader.read_tangents() {
         mesh.tangents = it.map(glam::Vec4::from_array).collect();
     }
+    // glTF's (0, 0) is the image's top-left corner; ours is the bottom-left.
     if let Some(it) = reader.read_tex_coords(0) {
-        // glTF's (0, 0) is the image's top-left corner; ours is the bottom-left.
         mesh.uvs = it.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect();
+    }
+    if let Some(it) = reader.read_tex_coords(1) {
+        mesh.second_uvs = it.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect();
     }
     let indices: Vec<u32> = match reader.read_indices() {
         Some(it) => it.into_u32().collect(),
@@ -195,19 +192,11 @@ fn read_primitive(g: &Opened, p: &gltf::Primitive, what: &str) -> Result<Triangl
     if mesh.uvs.len() != n {
         mesh.uvs.clear();
     }
+    if mesh.second_uvs.len() != n {
+        mesh.second_uvs.clear();
+    }
     if mesh.tangents.len() != n {
         mesh.tangents.clear();
     }
     Ok(mesh)
-}
-
-/// `KHR_texture_transform` on our (v-up) coordinates: in glTF's v-down space,
-/// uv' = T · R · S · uv with R = [[cos, −sin], [sin, cos]] (the extension's matrix).
-fn transform_uvs(uvs: &mut [Vec2], offset: [f32; 2], rotation: f32, scale: [f32; 2]) {
-    let (sin, cos) = rotation.sin_cos();
-    for uv in uvs {
-        let (x, y) = (uv.x * scale[0], (1.0 - uv.y) * scale[1]);
-        let (u, v) = (cos * x - sin * y + offset[0], sin * x + cos * y + offset[1]);
-        *uv = Vec2::new(u, 1.0 - v);
-    }
 }

@@ -1,7 +1,7 @@
-//! glTF 2.0 (.gltf with its buffers, or .glb): meshes with normals and UVs under the node
-//! hierarchy, the first perspective camera, `KHR_lights_punctual` point, spot and directional
-//! lights, and
-//! metallic-roughness materials mapped onto ours:
+//! glTF 2.0 (.gltf with its buffers, or .glb): meshes with normals and two UV sets under the
+//! node hierarchy, the first perspective camera, `KHR_lights_punctual` point, spot and
+//! directional lights, and
+//! metallic-roughness materials mapped onto ours (alpha masks and blending as coverage):
 //! - `KHR_materials_transmission` > 0 → glass of index `KHR_materials_ior` (1.5);
 //! - metallic ≥ 0.5 and roughness < 0.5 → mirror tinted by the base colour;
 //! - otherwise diffuse with the base colour (factor × texture), also for rough metals;
@@ -9,6 +9,7 @@
 //!
 //! Whatever cannot be mapped is reported once per kind as a warning. Accessors are checked
 //! against their buffers before anything is read, so a malformed file is an error, not a panic.
+//! Animations are not rendered (the scene is shown as posed) and not read.
 
 mod geometry;
 mod material;
@@ -39,6 +40,9 @@ pub(super) struct Opened {
     pub path: PathBuf,
     pub doc: gltf::Document,
     pub buffers: Vec<Vec<u8>>,
+    /// The document's JSON as it is, for what `gltf` does not hand out (the normal texture's
+    /// `KHR_texture_transform`).
+    pub raw: serde_json::Value,
 }
 
 /// What reading collects as it goes: warnings (once per kind) and decoded textures.
@@ -126,24 +130,38 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
     let camera = match camera {
         Some(c) => c,
         None => {
-            sink.warn("the file has no perspective camera; the scene is framed from +z");
+            sink.warn(&format!(
+                "the file has no perspective camera; the scene is framed from the front (+z), {FRAMING_ELEVATION_DEG}° above"
+            ));
             frame_camera(&meshes)
         }
     };
-    if lights.is_empty()
-        && !meshes
-            .parts
-            .iter()
-            .any(|p| p.material.as_ref().is_some_and(|m| m.emission.is_some()))
-    {
-        sink.warn(&format!(
-            "the file has no lights and no emissive materials (Blender keeps its world lighting out of glTF): it is lit by a uniform white sky of radiance {DEFAULT_SKY_RADIANCE}; give your own with --env FILE|R,G,B"
-        ));
-        lights.push(LightSpec::Environment(EnvironmentSpec {
-            sky: Sky::Uniform(Rgb::splat(DEFAULT_SKY_RADIANCE)),
-            intensity: 1.0,
-            rotate_deg: 0.0,
-        }));
+    let mut default_sky_warning = None;
+    if lights.is_empty() {
+        let (emitted, sky) = emitted_and_sky_power(&meshes);
+        let reason = if emitted <= 0.0 {
+            Some("the file has no lights and no emissive materials".to_owned())
+        } else if emitted < EMITTERS_LIGHT_SCENE * sky {
+            Some(format!(
+                "the file has no lights, and its emissive surfaces emit {emitted:.3} W (luminance), {:.1}% of the {sky:.3} W a white sky of radiance {DEFAULT_SKY_RADIANCE} sends onto its surfaces: too little to light it",
+                100.0 * emitted / sky
+            ))
+        } else {
+            None
+        };
+        if let Some(reason) = reason {
+            let warning = format!(
+                "{}: {reason} (Blender keeps its world lighting out of glTF), so it is lit by a uniform white sky of radiance {DEFAULT_SKY_RADIANCE}; give your own with --env FILE|R,G,B",
+                path.display()
+            );
+            default_sky_warning = Some(warning.clone());
+            sink.warnings.insert(warning);
+            lights.push(LightSpec::Environment(EnvironmentSpec {
+                sky: Sky::Uniform(Rgb::splat(DEFAULT_SKY_RADIANCE)),
+                intensity: 1.0,
+                rotate_deg: 0.0,
+            }));
+        }
     }
     let name = path
         .file_stem()
@@ -161,6 +179,7 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
         emission: None,
     });
     desc.lights = lights;
+    desc.default_sky_warning = default_sky_warning;
     meshes.warnings.extend(sink.warnings);
     meshes.warnings.sort();
     meshes.warnings.dedup();
@@ -193,8 +212,41 @@ impl Opened {
 fn open(path: &Path) -> Result<(Opened, Sink)> {
     let bytes = read_bytes(path)?;
     check_glb_header(path, &bytes)?;
-    let gltf = gltf::Gltf::from_slice_without_validation(&bytes)
-        .map_err(|e| gltf_error(path, &bytes, e))?;
+    let mut warnings = BTreeSet::new();
+    let (raw, mut without_animations) = raw_json(&bytes);
+    let has_animations = without_animations
+        .as_object_mut()
+        .and_then(|o| o.remove("animations"))
+        .is_some();
+    if has_animations {
+        warnings.insert(format!(
+            "{}: animations are not rendered (the scene is shown as posed) and are not read",
+            path.display()
+        ));
+    }
+    let gltf = match gltf::Gltf::from_slice_without_validation(&bytes) {
+        Ok(g) => g,
+        // `gltf` 1.4 cannot read some valid animations (a `KHR_animation_pointer` channel
+        // targets no node); they are not rendered, so the file is read without them.
+        Err(gltf::Error::Deserialize(_)) if has_animations => {
+            match serde_json::from_value::<gltf::json::Root>(without_animations) {
+                Ok(root) => gltf::Gltf {
+                    document: gltf::Document::from_json_without_validation(root),
+                    blob: gltf::binary::Glb::from_slice(&bytes)
+                        .ok()
+                        .and_then(|glb| glb.bin.map(|b| b.into_owned())),
+                },
+                Err(_) => {
+                    let e = gltf::Gltf::from_slice_without_validation(&bytes).err();
+                    return Err(e.map_or_else(
+                        || file_error(path, "cannot read glTF"),
+                        |e| gltf_error(path, &bytes, e),
+                    ));
+                }
+            }
+        }
+        Err(e) => return Err(gltf_error(path, &bytes, e)),
+    };
     let json = gltf.document.into_json();
     check_attribute_references(path, &json)?;
     let gltf = gltf::Gltf {
@@ -226,7 +278,6 @@ fn open(path: &Path) -> Result<(Opened, Sink)> {
         }
         buffers.push(data);
     }
-    let mut warnings = BTreeSet::new();
     for ext in gltf.document.extensions_required() {
         if !SUPPORTED_EXTENSIONS.contains(&ext) {
             warnings.insert(format!(
@@ -250,6 +301,7 @@ fn open(path: &Path) -> Result<(Opened, Sink)> {
             path: path.to_owned(),
             doc: gltf.document,
             buffers,
+            raw,
         },
         Sink {
             path: path.to_owned(),
@@ -359,7 +411,7 @@ pub(super) fn read_uri(path: &Path, dir: &Path, uri: &str) -> Result<Vec<u8>> {
             .decode(data)
             .map_err(|e| file_error(path, format!("a data URI is not valid base64: {e}")));
     }
-    let file = dir.join(uri.replace("%20", " "));
+    let file = dir.join(percent_decode(uri));
     crate::io::input::read_file(&file)
         .map_err(|e| file_error(path, format!("cannot read the buffer or image: {e}")))
 }
@@ -431,7 +483,12 @@ fn camera_spec(world: &Mat4, yfov: f32, aspect: Option<f32>) -> CameraSpec {
     }
 }
 
-/// A camera on +z looking at the middle of the meshes, far enough to see them all.
+/// How far above the horizon a file without a camera is seen from, degrees: from the front
+/// and above, as glTF viewers frame a model, so that a floor is seen from above, not edge-on.
+pub const FRAMING_ELEVATION_DEG: f32 = 25.0;
+
+/// A camera in front (+z) and [`FRAMING_ELEVATION_DEG`] above the middle of the meshes,
+/// looking at it, far enough to see them all.
 fn frame_camera(meshes: &MeshFile) -> CameraSpec {
     let points = meshes.parts.iter().flat_map(|p| p.mesh.positions.iter());
     let (lo, hi) = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
@@ -444,12 +501,101 @@ fn frame_camera(meshes: &MeshFile) -> CameraSpec {
     };
     let fov = 40.0f32;
     let distance = radius / (0.5 * fov.to_radians()).sin();
+    let (sin, cos) = FRAMING_ELEVATION_DEG.to_radians().sin_cos();
     CameraSpec {
-        position: centre + Vec3::Z * distance,
+        position: centre + Vec3::new(0.0, sin, cos) * distance,
         look_at: centre,
         up: Vec3::Y,
         fov_y_deg: fov,
         width: DEFAULT_HEIGHT,
         height: DEFAULT_HEIGHT,
     }
+}
+
+/// The document's JSON (a GLB's JSON chunk), and a copy to edit; `Null` where it is not JSON
+/// (then `gltf`'s own reader reports the error, located).
+fn raw_json(bytes: &[u8]) -> (serde_json::Value, serde_json::Value) {
+    let json: &[u8] = if bytes.starts_with(b"glTF") {
+        match gltf::binary::Glb::from_slice(bytes) {
+            Ok(glb) => return both(serde_json::from_slice(&glb.json).ok()),
+            Err(_) => &[],
+        }
+    } else {
+        bytes
+    };
+    both(serde_json::from_slice(json).ok())
+}
+
+fn both(value: Option<serde_json::Value>) -> (serde_json::Value, serde_json::Value) {
+    let value = value.unwrap_or_default();
+    (value.clone(), value)
+}
+
+/// A URI reference's path with every `%XX` escape decoded (RFC 3986 §2.1; glTF 2.0 §3.5.2
+/// stores relative paths as URI references, so `tex%281%29.png` names `tex(1).png`). A `%`
+/// not followed by two hex digits is kept as it is.
+pub(super) fn percent_decode(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = |k: usize| bytes.get(k).and_then(|&b| (b as char).to_digit(16));
+        match (bytes[i], hex(i + 1), hex(i + 2)) {
+            (b'%', Some(hi), Some(lo)) => {
+                out.push((hi * 16 + lo) as u8);
+                i += 3;
+            }
+            (b, _, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Share of a white sky's power above which a file's emissive surfaces are taken to light
+/// it: a ceiling light of a room emits tens of percent of it, the glowing details of a model
+/// (DamagedHelmet's) about one.
+pub const EMITTERS_LIGHT_SCENE: f32 = 0.05;
+
+/// Luminous power (luminance-weighted watts) the file's emissive surfaces emit, π ∫ L dA per
+/// emitting side (the emissive texture's mean standing for its values over the surface),
+/// and what a uniform sky of [`DEFAULT_SKY_RADIANCE`] sends onto the same surfaces were
+/// they all open to it: π L per unit area, over every surface of the file.
+fn emitted_and_sky_power(meshes: &MeshFile) -> (f32, f32) {
+    let mut emitted = 0.0;
+    let mut area_total = 0.0;
+    for part in &meshes.parts {
+        let m = &part.mesh;
+        let area: f32 = m
+            .triangles
+            .iter()
+            .filter(|t| t.iter().all(|&i| (i as usize) < m.positions.len()))
+            .map(|t| {
+                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        area_total += area;
+        let Some(super::EmissionSpec::Radiance {
+            radiance,
+            two_sided,
+            texture,
+        }) = part.material.as_ref().and_then(|m| m.emission.as_ref())
+        else {
+            continue;
+        };
+        let texture_mean = match texture {
+            Some(super::ImageRef::Decoded(t)) if !t.image.texels.is_empty() => {
+                t.image.texels.iter().copied().sum::<Rgb>() / t.image.texels.len() as f32
+            }
+            _ => Rgb::ONE,
+        };
+        let sides = if *two_sided { 2.0 } else { 1.0 };
+        emitted +=
+            std::f32::consts::PI * crate::math::luminance(*radiance * texture_mean) * area * sides;
+    }
+    let sky = std::f32::consts::PI * DEFAULT_SKY_RADIANCE * area_total;
+    (emitted, sky)
 }

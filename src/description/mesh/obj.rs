@@ -94,6 +94,7 @@ pub fn read(path: &Path) -> Result<MeshFile> {
                 positions,
                 normals,
                 uvs,
+                second_uvs: Vec::new(),
                 tangents: Vec::new(),
                 triangles,
             },

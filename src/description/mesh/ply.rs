@@ -180,6 +180,7 @@ pub fn read(path: &Path) -> Result<MeshFile> {
                 positions,
                 normals,
                 uvs,
+                second_uvs: Vec::new(),
                 tangents: Vec::new(),
                 triangles,
             },

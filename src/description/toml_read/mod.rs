@@ -128,5 +128,6 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
         lights,
         base_dir: base_dir.to_owned(),
         origins,
+        default_sky_warning: None,
     })
 }

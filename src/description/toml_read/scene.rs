@@ -217,6 +217,7 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
                 specular: unit_interval(t, "specular", 1.0)?,
                 metallic_roughness: data("metallic_roughness")?,
                 normal_map: normal_map.map(|n| (n, normal_scale)),
+                coverage: crate::scene::Coverage::Opaque,
             }))
         }
         other => Err(bad_type(

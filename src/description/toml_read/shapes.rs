@@ -223,6 +223,7 @@ pub(super) fn inline_mesh(t: &Table) -> Result<TriangleMesh> {
         positions,
         normals,
         uvs,
+        second_uvs: Vec::new(),
         tangents: Vec::new(),
         triangles,
     })
@@ -382,7 +383,7 @@ pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
             })
         }
         "environment" => environment(t),
-        _ => Ok(LightSpec::Area(shape(t, names, true)?)),
+        _ => Ok(LightSpec::Area(Box::new(shape(t, names, true)?))),
     }
 }
 
