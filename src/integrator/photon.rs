@@ -23,9 +23,9 @@ use super::{RayStats, Sample, ShadingPoint};
 use crate::material::{Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
 use crate::photon::IrradianceCache;
-use crate::photon::PhotonMaps;
 use crate::photon::cache::estimate_apart_from_sites;
-use crate::photon::estimate::{self, GatherParams, Kernel};
+use crate::photon::estimate::{self, GatherParams, Kernel, Selection};
+use crate::photon::{MapKind, PhotonMap, PhotonMaps};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use std::f32::consts::FRAC_1_PI;
@@ -121,6 +121,10 @@ pub struct PhotonIntegrator {
     pub settings: PhotonSettings,
     pub maps: Arc<PhotonMaps>,
     cache: Option<Arc<IrradianceCache>>,
+    /// With final gathering: the global map's photons whose last scattering was by a smooth
+    /// lobe (see [`Self::final_gather`]), in a map of their own so that their sparse
+    /// estimates do not search through the others.
+    after_smooth: Option<Arc<PhotonMap>>,
 }
 
 impl PhotonIntegrator {
@@ -137,10 +141,25 @@ impl PhotonIntegrator {
                 &settings.global,
             ))
         });
+        let after_smooth = cache.is_some().then(|| {
+            let photons = maps
+                .global
+                .photons()
+                .iter()
+                .filter(|p| p.smooth_last_scattering())
+                .copied()
+                .collect();
+            Arc::new(PhotonMap::build(
+                MapKind::Global,
+                photons,
+                maps.global.power_scale,
+            ))
+        });
         Self {
             settings,
             maps,
             cache,
+            after_smooth,
         }
     }
 
@@ -221,7 +240,7 @@ impl PhotonIntegrator {
                 sp.wo_local,
                 m,
                 &self.settings.caustic,
-                false,
+                Selection::All,
             );
             out.indirect = match &self.cache {
                 Some(_) => self.final_gather(scene, &sp, rng, stats),
@@ -233,7 +252,7 @@ impl PhotonIntegrator {
                     sp.wo_local,
                     m,
                     &self.settings.global,
-                    true,
+                    Selection::Indirect,
                 ),
             };
         }
@@ -329,6 +348,14 @@ impl PhotonIntegrator {
     /// the rays aim at them instead; each ray is weighted by the balance heuristic over both
     /// (Veach 1997, §9.2.1: f·cos / (n_b p_b + n_h p_h)), which keeps the estimate unbiased
     /// and removes the speckles that small, bright regions made.
+    ///
+    /// The indirect paths into x are split by the scattering just before x. A gather ray
+    /// reads only the rough part of the surface it meets; the paths whose last scattering was
+    /// by a smooth part (x ← glass or mirror ← …) are the global map's photons at x so marked
+    /// ([`crate::photon::Photon::smooth_last_scattering`]).
+    /// Gather rays sent through glass found the bright spots behind it (a caustic's focus, a
+    /// lit floor magnified by a glass sphere) with no density that aims at them: those were
+    /// the speckles of `scenes/caustics.toml` on its dark wall and inside its sphere.
     fn final_gather(
         &self,
         scene: &Scene,
@@ -347,7 +374,7 @@ impl PhotonIntegrator {
         let (b_count, h_count) = (n_bsdf as f32, n_hot as f32);
         let m = &sp.material;
         let mut sum = Rgb::ZERO;
-        let mut trace = |wi: Vec3, rng: &mut Rng, stats: &mut RayStats| {
+        let mut trace = |wi: Vec3, stats: &mut RayStats| {
             let cos = wi.dot(sp.frame.n);
             if cos <= 0.0 {
                 return;
@@ -361,7 +388,7 @@ impl PhotonIntegrator {
                 return;
             }
             let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
-            sum += weight * self.gathered_radiance(scene, &ray, rng, stats);
+            sum += weight * self.gathered_radiance(scene, &ray, stats);
         };
         // BSDF rays, stratified on a jittered grid when their count is a square (else in u).
         let side = (n_bsdf as f32).sqrt() as u32;
@@ -377,71 +404,45 @@ impl PhotonIntegrator {
             if let Some(s) =
                 m.sample_part(sp.wo_local, u_lobe, u, TransportMode::Radiance, Part::Rough)
             {
-                trace(sp.frame.to_world(s.wi), rng, stats);
+                trace(sp.frame.to_world(s.wi), stats);
             }
         }
         if let Some(h) = &hot {
             for k in 0..n_hot {
                 let u_cell = (k as f32 + rng.next_f32()) / h_count;
                 let wi = h.sample(u_cell, rng.next_2d());
-                trace(wi, rng, stats);
+                trace(wi, stats);
             }
         }
-        sum
+        let after_smooth = self.after_smooth.as_ref().map_or(Rgb::ZERO, |map| {
+            estimate::radiance(
+                map,
+                sp.hit.p,
+                sp.ng,
+                &sp.frame,
+                sp.wo_local,
+                m,
+                &self.settings.global,
+                Selection::All,
+            )
+        });
+        sum + after_smooth
     }
 
-    /// Radiance arriving along a gather ray from rough surfaces (through the smooth parts of
-    /// materials), from the photon maps; emission is left out (counted as direct or caustic).
-    fn gathered_radiance(
-        &self,
-        scene: &Scene,
-        ray: &Ray,
-        rng: &mut Rng,
-        stats: &mut RayStats,
-    ) -> Rgb {
-        let mut ray = *ray;
-        let mut weight = Rgb::ONE;
-        let mut l = Rgb::ZERO;
-        for _ in 0..self.settings.max_depth.max(1) {
-            stats.bounce += 1;
-            let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-                return l;
-            };
-            let wo = -ray.dir;
-            let (material, frame) = scene.surface(&hit, wo);
-            let wo_local = frame.to_local(wo);
-            if material.has(Part::Rough) {
-                l += weight * self.reflected_at(&hit, &frame, wo_local, &material);
-            }
-            if !material.has(Part::Smooth) {
-                return l;
-            }
-            let u_lobe = rng.next_f32();
-            let Some(b) = material.sample_part(
-                wo_local,
-                u_lobe,
-                rng.next_2d(),
-                TransportMode::Radiance,
-                Part::Smooth,
-            ) else {
-                return l;
-            };
-            // Russian roulette on a coat over a rough base (the smooth part of a material that
-            // also has a rough one): it reflects a few per cent, and following every coat to
-            // the maximum depth multiplied the work of a gather ray. Mirrors and glass go on.
-            let survive = if material.has(Part::Rough) {
-                b.weight.max_element().min(1.0)
-            } else {
-                1.0
-            };
-            if survive < 1.0 && (survive <= 0.0 || rng.next_f32() >= survive) {
-                return l;
-            }
-            weight *= b.weight / survive;
-            let wi = frame.to_world(b.wi);
-            ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+    /// Radiance arriving along a gather ray from the rough part of the surface it hits, from
+    /// the photon maps; emission is left out (counted as direct or caustic), and so is the
+    /// light that the surface's smooth part sends (see [`Self::final_gather`]).
+    fn gathered_radiance(&self, scene: &Scene, ray: &Ray, stats: &mut RayStats) -> Rgb {
+        stats.bounce += 1;
+        let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
+            return Rgb::ZERO;
+        };
+        let wo = -ray.dir;
+        let (material, frame) = scene.surface(&hit, wo);
+        if !material.has(Part::Rough) {
+            return Rgb::ZERO;
         }
-        l
+        self.reflected_at(&hit, &frame, frame.to_local(wo), &material)
     }
 
     /// Radiance reflected by the rough part at a gather ray's hit, from every photon: the
@@ -478,7 +479,7 @@ impl PhotonIntegrator {
             wo_local,
             material,
             g,
-            false,
+            Selection::All,
         ) + estimate::radiance(
             &self.maps.caustic,
             hit.p,
@@ -487,7 +488,7 @@ impl PhotonIntegrator {
             wo_local,
             material,
             g,
-            false,
+            Selection::All,
         )
     }
 

@@ -3,7 +3,7 @@
 //! ```text
 //! offset  size  content
 //! 0       8     magic "PHOTONMP"
-//! 8       4     format version (u32, little-endian) = 1
+//! 8       4     format version (u32, little-endian) = 2 (2: photons mark a smooth last scattering)
 //! 12      4     endianness mark 0x01020304 written little-endian
 //! 16      4     bytes per photon = 24 (layout in photon::Photon's docs)
 //! 20      4     length H of the JSON header
@@ -24,7 +24,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"PHOTONMP";
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 const ENDIAN_MARK: u32 = 0x0102_0304;
 const PHOTON_SIZE: usize = std::mem::size_of::<Photon>();
 const FIXED: usize = 24;

@@ -241,10 +241,21 @@ pub(super) fn gather(
     }
 }
 
-/// Reflected radiance at `p` toward `wo` from the photons of `map`: Σ f ΔΦ w, with f the
-/// material's rough part (photons are stored only on rough parts). `frame.n` is the
-/// normal on the side of `wo`. With `skip_direct`, photons straight from a light are left out
-/// (direct light is computed by next-event estimation instead).
+/// Which photons of a map a radiance estimate sums.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Selection {
+    All,
+    /// Leave out photons straight from a light (direct light comes from next-event estimation).
+    Indirect,
+}
+
+/// Reflected radiance at `p` toward `wo` from the `selection` of `map`'s photons: Σ f ΔΦ w,
+/// with f the material's rough part (photons are stored only on rough parts). `ng` is the
+/// geometric normal and `frame.n` the shading normal, both on the side of `wo`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a point, its surface and what to gather"
+)]
 pub fn radiance(
     map: &PhotonMap,
     p: Vec3,
@@ -253,12 +264,12 @@ pub fn radiance(
     wo_local: Vec3,
     material: &Material,
     g: &GatherParams,
-    skip_direct: bool,
+    selection: Selection,
 ) -> Rgb {
     let mut l = Rgb::ZERO;
     let photons = map.photons();
     let filter = Filter {
-        skip_direct,
+        skip_direct: selection == Selection::Indirect,
         ..Filter::default()
     };
     gather(map, p, ng, g, filter, &mut |i, w| {

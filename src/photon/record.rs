@@ -7,7 +7,7 @@
 //! | 2 | incoming direction, octahedral 2 × u8 (Cigolle et al., JCGT 2014), error < 1° |
 //! | 2 | geometric normal on the lit side, octahedral 2 × u8, error < 1° |
 //! | 1 | depth: number of surface hits, 1 for light arriving straight from a light |
-//! | 1 | flags: bits 2–3 colour channel (0 RGB, 1 R, 2 G, 3 B); the rest reserved |
+//! | 1 | flags: bits 2–3 colour channel (0 RGB, 1 R, 2 G, 3 B); bit 4 the last scattering was by a smooth lobe; the rest reserved |
 //!
 //! Jensen's record was 20 bytes with RGBE power and a 2-byte direction; f16 power keeps three
 //! independent channels exact to 0.05%, which the per-channel maps need, and the stored normal
@@ -162,7 +162,27 @@ impl Photon {
     pub fn is_direct(&self) -> bool {
         self.depth == 1
     }
+
+    /// The same photon, marked as having been scattered last by a smooth lobe (mirror, glass,
+    /// a near-specular coat) or not.
+    #[must_use]
+    pub fn with_smooth_last_scattering(mut self, smooth: bool) -> Self {
+        self.flags = (self.flags & !SMOOTH_LAST) | if smooth { SMOOTH_LAST } else { 0 };
+        self
+    }
+
+    /// Whether the photon's last scattering before this hit was by a smooth lobe: the light
+    /// of the final gather's paths that leave a rough point by a smooth surface (see
+    /// `integrator::photon`).
+    pub fn smooth_last_scattering(&self) -> bool {
+        self.flags & SMOOTH_LAST != 0
+    }
 }
+
+/// Flag bit: the last scattering was by a smooth lobe.
+const SMOOTH_LAST: u8 = 1 << 4;
+
+impl Photon {}
 
 #[cfg(test)]
 mod tests {

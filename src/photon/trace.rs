@@ -312,6 +312,8 @@ struct PathVertex {
     depth: u32,
     /// Every scattering before this hit was by a smooth lobe (the path is L S* so far).
     specular_only: bool,
+    /// The last scattering before this hit was by a smooth lobe (false for direct photons).
+    smooth_last: bool,
 }
 
 /// What a photon path depends on besides its random numbers.
@@ -357,6 +359,7 @@ fn trace_path(
     };
     let mut ray = Ray::new(origin, e.dir);
     let mut specular_only = true;
+    let mut smooth_last = false;
     for depth in 1..=ctx.max_depth {
         let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
             return;
@@ -373,6 +376,7 @@ fn trace_path(
                 power: power * arrival.reflected_ratio(),
                 depth,
                 specular_only,
+                smooth_last,
             });
         }
         if depth == ctx.max_depth {
@@ -404,7 +408,8 @@ fn trace_path(
         if !power.is_finite() {
             return;
         }
-        specular_only &= material.is_smooth_lobe(s.lobe);
+        smooth_last = material.is_smooth_lobe(s.lobe);
+        specular_only &= smooth_last;
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
     }
 }
@@ -458,7 +463,8 @@ impl ShadingCosines {
 
 /// Store a path's photons: caustic (L S+ D) or, for the first `global_photons` paths, global.
 fn store(v: &PathVertex, channel: Channel, store_global: bool, out: &mut ChunkOut) {
-    let photon = Photon::new(v.p, v.n, v.wo, v.power, v.depth, channel);
+    let photon = Photon::new(v.p, v.n, v.wo, v.power, v.depth, channel)
+        .with_smooth_last_scattering(v.smooth_last);
     if v.depth > 1 && v.specular_only {
         out.caustic.push(photon);
         out.by_depth[v.depth as usize] += 1;
