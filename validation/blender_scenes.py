@@ -134,6 +134,15 @@ def principled(name, base, roughness=1.0, specular_level=0.0, emission=None, str
     return m
 
 
+def one_sided_lamp(strength):
+    """An emissive Principled BSDF with black base colour and Backface Culling on, which the
+    exporter writes without doubleSided: a one-sided emitter (its front face, counter-clockwise
+    side, emits) that reflects nothing."""
+    m = principled("lamp", (0.0, 0.0, 0.0), emission=(1.0, 1.0, 1.0), strength=strength)
+    m.use_backface_culling = True
+    return m
+
+
 def mesh_object(name, verts, faces, materials, smooth, uvs=None, face_materials=None, location=None):
     """A mesh object from +Y-up vertices and faces (counter-clockwise seen from the side the
     normal points to); `uvs` per face corner; `face_materials` material index per face."""
@@ -479,6 +488,14 @@ class Twin:
                 extra += f'    <emitter type="area"><rgb name="radiance" value="{xvec(radiance)}"/></emitter>\n'
                 self.ply_shape(fn, bsdf_xml, extra)
 
+    def add_one_sided_emitter(self, ob, radiance):
+        """A one-sided emissive mesh with a black base colour: Mitsuba's area emitter on the
+        mesh, black diffuse BSDF (the glb's front face is the PLY's normal side)."""
+        for mat, fn in export_ply_parts(ob, self.dir).items():
+            self.plys.setdefault(mat, []).append(os.path.join(self.dir, fn))
+            extra = f'    <emitter type="area"><rgb name="radiance" value="{xvec(radiance)}"/></emitter>\n'
+            self.ply_shape(fn, '<bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>', extra)
+
     def write(self):
         export_glb(os.path.join(self.dir, f"{self.name}.glb"))
         check_plys_against_glb(os.path.join(self.dir, f"{self.name}.glb"), self.plys)
@@ -614,7 +631,8 @@ def flush_light():
 A white box (2 x 2 x 2, open toward the camera, flat-shaded: the exporter writes face normals)
 with a 0.5 x 0.5 emissive quad 1 cm below the ceiling as Blender exports a ceiling panel: a
 Principled BSDF with base colour 0.8 (it reflects) and emission strength 8, double-sided, so its
-top face lights the ceiling 1 cm above it. A white block and a smooth sphere on the floor. The
+top face lights the ceiling 1 cm above it. A white block on the floor; everything flat-shaded (no
+shading normals: Mitsuba's light tracer would need their adjoint correction). The
 camera sees the ceiling and the light's lower face (its pixels carry part of the image's mean:
 the emitter share in validation/README.md). Every surface is Lambertian (Specular IOR Level 0).
 Mitsuba renders it with its light tracer, `ptracer`: light from the top face leaves the 1 cm gap
@@ -626,11 +644,10 @@ as a thin bright slit that camera paths find only by chance (path: half-vs-half 
     lamp = principled("lamp", (0.8, 0.8, 0.8), emission=(1.0, 1.0, 1.0), strength=8.0)
     room = room_object("room", [white], [0, 0, 0, 0, 0], smooth=False)
     block = box_object("block", (0.5, 0.8, 0.5), (-0.4, 0.4, -0.35), 20.0, white)
-    ball = uv_sphere_object("ball", (0.45, 0.3, 0.2), 0.3, white)
     light = quad_object("light", [(-0.25, 1.99, -0.25), (0.25, 1.99, -0.25), (0.25, 1.99, 0.25), (-0.25, 1.99, 0.25)], lamp)
     s.set_camera((0.0, 1.0, 3.3), (0.0, 1.05, 0.0), 40.0)
     s.bsdfs += [diffuse_bsdf("white", WHITE), diffuse_bsdf("lamp", (0.8, 0.8, 0.8))]
-    for ob in (room, block, ball):
+    for ob in (room, block):
         s.add_object(ob, ref)
     s.add_two_sided_emitter(light, (8.0, 8.0, 8.0), ref("lamp"))
     s.write()
@@ -678,13 +695,13 @@ node (Point: location (0.3, 0.2), rotation 30 degrees, scale (2, 1.5)), which th
 writes as KHR_texture_transform on the base colour texture only, and a Normal Map node (tangent
 space, strength 1) reading bumps-normal.png on the plain UVs (4 x 4 bumps). The floor's UVs run
 0..1 across it, u toward +x, v toward -z. Lambertian (Specular IOR Level 0). Light: an emissive
-0.5 x 0.5 quad (strength 15, double-sided) 30 cm below the ceiling toward the back left, out of
-the frame. Mitsuba: the bitmap's to_uv is the Mapping node's transform followed by (u, 1 - v);
+0.5 x 0.5 quad (strength 15; black base colour and Backface Culling, so one-sided, facing down)
+30 cm below the ceiling toward the back left, out of the frame. Mitsuba: the bitmap's to_uv is the Mapping node's transform followed by (u, 1 - v);
 the normal map is Mitsuba's `normalmap` on the plain UVs.
 """, spp=8192)
     textures_for_normal_mapped(s.dir)
     white = principled("white", WHITE)
-    lamp = principled("lamp", (0.8, 0.8, 0.8), emission=(1.0, 1.0, 1.0), strength=15.0)
+    lamp = one_sided_lamp(15.0)
     floor_mat = principled("floor", (1.0, 1.0, 1.0))
     nt = floor_mat.node_tree
     p = nt.nodes["Principled BSDF"]
@@ -726,7 +743,6 @@ the normal map is Mitsuba's `normalmap` on the plain UVs.
     flip = '<transform name="to_uv"><scale x="1" y="-1"/><translate x="0" y="1"/></transform>'
     s.bsdfs += [
         diffuse_bsdf("white", WHITE),
-        diffuse_bsdf("lamp", (0.8, 0.8, 0.8)),
         '<bsdf type="twosided" id="floor"><bsdf type="normalmap">'
         '<texture type="bitmap" name="normalmap"><string name="filename" value="bumps-normal.png"/>'
         '<boolean name="raw" value="true"/><string name="filter_type" value="bilinear"/><string name="wrap_mode" value="repeat"/>'
@@ -737,7 +753,7 @@ the normal map is Mitsuba's `normalmap` on the plain UVs.
     ]
     s.add_object(room, ref)
     s.add_object(floor, ref)
-    s.add_two_sided_emitter(light, (15.0, 15.0, 15.0), ref("lamp"))
+    s.add_one_sided_emitter(light, (15.0, 15.0, 15.0))
     s.write()
     doc = check_materials(os.path.join(s.dir, "normal-mapped.glb"), {
         "floor": {"pbrMetallicRoughness/baseColorTexture/extensions/KHR_texture_transform": None,
@@ -773,15 +789,16 @@ a Math Round node, which Blender's glTF exporter writes as alphaMode MASK, alpha
 the image node set to Closest, a NEAREST sampler). It casts a lattice shadow on the floor, and a
 glass sphere on the floor (radius 0.2, Principled transmission 1, roughness 0, IOR 1.5, smooth UV
 sphere 64 x 32) under a window focuses the light that came through it into a caustic. Light: an
-emissive 0.3 x 0.3 quad (strength 40, double-sided) at height 1.9 toward the back left, out of the
-frame (the camera looks down from 1.75). Mitsuba: `mask` around the card's BSDF with the alpha as opacity (nearest texel;
+emissive 0.3 x 0.3 quad (strength 40; black base colour and Backface Culling, so one-sided,
+facing down) at height 1.9 toward the back left, out of the frame (the camera looks down from
+1.75). Mitsuba: `mask` around the card's BSDF with the alpha as opacity (nearest texel;
 binary, so MASK and BLEND agree), integrator `volpath`, whose shadow rays pass through the
 transparent texels (`path` would only find the light through them by BSDF sampling).
-""", spp=8192)
+""", spp=6144)
     s.integrator = "volpath"
     fence_textures(s.dir)
     white = principled("white", WHITE)
-    lamp = principled("lamp", (0.8, 0.8, 0.8), emission=(1.0, 1.0, 1.0), strength=40.0)
+    lamp = one_sided_lamp(40.0)
     card = principled("fence", (1.0, 1.0, 1.0))
     nt = card.node_tree
     p = nt.nodes["Principled BSDF"]
@@ -804,7 +821,6 @@ transparent texels (`path` would only find the light through them by BSDF sampli
     s.set_camera((0.0, 1.75, 2.2), (0.0, 0.3, -0.2), 45.0)
     s.bsdfs += [
         diffuse_bsdf("white", WHITE),
-        diffuse_bsdf("lamp", (0.8, 0.8, 0.8)),
         '<bsdf type="dielectric" id="glass"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1.0"/></bsdf>',
         '<bsdf type="mask" id="fence"><texture type="bitmap" name="opacity"><string name="filename" value="fence-alpha.png"/>'
         '<boolean name="raw" value="true"/><string name="filter_type" value="nearest"/><string name="wrap_mode" value="repeat"/>'
@@ -816,7 +832,7 @@ transparent texels (`path` would only find the light through them by BSDF sampli
     s.add_object(room, ref)
     s.add_object(fence, ref)
     s.add_object(ball, ref)
-    s.add_two_sided_emitter(light, (40.0, 40.0, 40.0), ref("lamp"))
+    s.add_one_sided_emitter(light, (40.0, 40.0, 40.0))
     s.write()
     doc = check_materials(os.path.join(s.dir, "alpha-fence.glb"), {
         "fence": {"alphaMode": "MASK", "pbrMetallicRoughness/baseColorTexture": None},
@@ -837,15 +853,16 @@ Principled BSDF (transmission 1, roughness 0, IOR 1.5, white) and a Volume Absor
 {color}, density {1 / distance:g}) on the material output's volume, plus the exporter's "glTF
 Material Output" group with Thickness {thickness}: Blender's glTF exporter writes
 KHR_materials_volume (attenuationColor = the absorption colour, attenuationDistance = 1 / density,
-thicknessFactor) and, for a volume, doubleSided false. Light: an emissive 0.5 x 0.5 quad
-(strength 15, double-sided) 30 cm below the ceiling, out of the frame. Mitsuba: `dielectric`
+thicknessFactor) and, for a volume, doubleSided false. Light: an emissive 1 x 1 quad (strength
+5; black base colour and Backface Culling, so one-sided, facing down) 10 cm below the ceiling,
+out of the frame (large, so that paths through the glass find it often). Mitsuba: `dielectric`
 (int_ior 1.5, ext_ior 1) around an interior `homogeneous` medium, albedo 0, sigma_t =
 -ln(attenuationColor) / attenuationDistance per channel (Beer-Lambert as KHR_materials_volume
 defines it), integrator `volpath`.
-""", spp=8192)
+""", spp=12288)
     s.integrator = "volpath"
     white = principled("white", WHITE)
-    lamp = principled("lamp", (0.8, 0.8, 0.8), emission=(1.0, 1.0, 1.0), strength=15.0)
+    lamp = one_sided_lamp(5.0)
     glass = principled("tinted-glass", (1.0, 1.0, 1.0), roughness=0.0, specular_level=0.5)
     nt = glass.node_tree
     p = nt.nodes["Principled BSDF"]
@@ -866,7 +883,7 @@ defines it), integrator `volpath`.
     room = room_object("room", [white], [0, 0, 0, 0, 0], smooth=False)
     ball = uv_sphere_object("ball", (-0.4, 0.35, -0.2), 0.35, glass, segments=64, rings=32)
     block = box_object("block", (0.4, 0.6, 0.4), (0.4, 0.3, 0.25), 25.0, glass)
-    light = quad_object("light", [(-0.25, 1.7, -0.35), (0.25, 1.7, -0.35), (0.25, 1.7, 0.15), (-0.25, 1.7, 0.15)], lamp)
+    light = quad_object("light", [(-0.5, 1.9, -0.6), (0.5, 1.9, -0.6), (0.5, 1.9, 0.4), (-0.5, 1.9, 0.4)], lamp)
     s.set_camera(*STD_CAMERA)
     sigma = [-math.log(c) / distance for c in color]
     scale = max(sigma)  # Mitsuba's RGB sigma_t must lie in [0, 1]: sigma_t = scale * rgb
@@ -875,13 +892,12 @@ defines it), integrator `volpath`.
         f'<float name="scale" value="{fnum(scale)}"/><rgb name="albedo" value="0, 0, 0"/></medium>')
     s.bsdfs += [
         diffuse_bsdf("white", WHITE),
-        diffuse_bsdf("lamp", (0.8, 0.8, 0.8)),
         '<bsdf type="dielectric" id="glass"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1.0"/></bsdf>',
     ]
     s.add_object(room, ref)
     for ob in (ball, block):
         s.add_object(ob, lambda mat: ref("glass") + '\n    <ref name="interior" id="absorbing"/>')
-    s.add_two_sided_emitter(light, (15.0, 15.0, 15.0), ref("lamp"))
+    s.add_one_sided_emitter(light, (5.0, 5.0, 5.0))
     s.write()
     doc = check_materials(os.path.join(s.dir, "absorbing-glass.glb"), {
         "tinted-glass": {"extensions/KHR_materials_volume/attenuationColor": None,
