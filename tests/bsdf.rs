@@ -29,11 +29,7 @@ fn white_metal(alpha: f32) -> Material {
 }
 
 fn rough_glass(alpha: f32) -> Material {
-    Material::RoughDielectric(RoughDielectric {
-        ior: 1.5,
-        ggx: Ggx::isotropic(alpha),
-        transmittance: Rgb::ONE,
-    })
+    Material::RoughDielectric(RoughDielectric::new(1.5, Ggx::isotropic(alpha), Rgb::ONE))
 }
 
 fn pbr(base: f32, metallic: f32, roughness: f32) -> Material {

@@ -9,7 +9,7 @@ use photon::description::gltf::DEFAULT_SKY_RADIANCE;
 use photon::description::{LightSpec, load_scene};
 use photon::light::Light;
 use photon::material::Material;
-use photon::math::{Ray, Vec3};
+use photon::math::{Ray, Rgb, Vec3};
 use photon::scene::Scene;
 use std::path::PathBuf;
 
@@ -286,5 +286,53 @@ fn blender_tangents_agree_with_tangents_from_the_uvs() {
         worst < 1.0 - 0.99,
         "normals differ by up to {}°",
         (1.0 - worst).acos().to_degrees()
+    );
+}
+
+/// Blender's Volume Absorption (colour (0.5, 0.8, 1), density 0.5) and the glTF output's
+/// thickness 2 arrive as `KHR_materials_volume` attenuation colour (0.5, 0.8, 1) over 2 m; a
+/// path that crosses the sphere (radius 1) meets its far side with every branch scaled by
+/// colour^(length / 2), the length in world units (the tessellated sphere is a little
+/// shorter than 2 through its poles).
+#[test]
+fn blender_volume_absorption_attenuates_paths_inside_the_glass() {
+    let (scene, loaded) = load_scene(&fixture("glass-volume.glb")).expect("loads");
+    assert!(
+        !loaded
+            .warnings
+            .iter()
+            .any(|w| w.contains("KHR_materials_volume")),
+        "{:?}",
+        loaded.warnings
+    );
+    let down = Vec3::new(0.0, -1.0, 0.0);
+    let top = scene
+        .intersect(&Ray::new(Vec3::new(0.05, 10.0, 0.03), down), f32::INFINITY)
+        .expect("hits the sphere");
+    assert!((top.p.y - 2.0).abs() < 0.02, "the sphere's top: {}", top.p);
+    let (outside, _) = scene.surface(&top, -down);
+    let Material::Dielectric(entering) = outside else {
+        panic!("smooth glass: {outside:?}");
+    };
+    assert!((entering.ior - 1.45).abs() < 1e-6);
+    assert_eq!(entering.segment, Rgb::ONE, "nothing is absorbed outside");
+    let inside = Ray::new(photon::math::offset_origin(top.p, top.ng, down), down);
+    let bottom = scene
+        .intersect(&inside, f32::INFINITY)
+        .expect("hits the far side");
+    assert!((bottom.t - 2.0).abs() < 0.02, "a diameter: {}", bottom.t);
+    let (met, _) = scene.surface(&bottom, -down);
+    let Material::Dielectric(leaving) = met else {
+        panic!("smooth glass: {met:?}");
+    };
+    let expected = Rgb::new(
+        0.5f32.powf(bottom.t / 2.0),
+        0.8f32.powf(bottom.t / 2.0),
+        1.0,
+    );
+    assert!(
+        (leaving.segment - expected).abs().max_element() < 1e-5,
+        "{} vs {expected}",
+        leaving.segment
     );
 }

@@ -2,15 +2,16 @@
 //! texture transforms, coordinate sets and wrap modes (an arrow fixture read from rendered
 //! pixels), alpha masks and blending for every kind of ray, the default sky, framing without
 //! a camera, animations that are not read, refused indices of refraction, percent-encoded
-//! URIs.
+//! URIs, `KHR_materials_volume` attenuation.
 
 mod common;
 
 use photon::description::build::build;
-use photon::description::gltf::import_scene;
-use photon::description::{EnvironmentSpec, Sky, load_scene_edited};
+use photon::description::gltf::{import_scene, read_meshes};
+use photon::description::{EnvironmentSpec, MaterialSpec, Sky, load_scene_edited};
 use photon::film::{Image, PixelFilter};
 use photon::integrator::{DirectConfig, Integrator};
+use photon::material::Attenuation;
 use photon::math::{Ray, Rgb, Vec3};
 use photon::photon::{PhotonConfig, trace_photons};
 use photon::render::{RenderSettings, render};
@@ -448,6 +449,87 @@ fn an_index_of_refraction_that_is_not_positive_is_refused() {
         };
         let e = e.to_string();
         assert!(e.contains("index of refraction must be positive"), "{e}");
+    }
+}
+
+/// A glass card with `KHR_materials_volume` set to `volume`.
+fn glass_card(volume: serde_json::Value) -> serde_json::Value {
+    json!({"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0}, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_volume": volume}})
+}
+
+/// The glass's attenuation as read, and the file's warnings.
+fn glass_attenuation(name: &str, volume: serde_json::Value) -> (Option<Attenuation>, Vec<String>) {
+    let path = card_file(name, glass_card(volume));
+    let loaded = import_scene(&path).expect("imports");
+    let attenuation = read_meshes(&path)
+        .expect("reads")
+        .parts
+        .iter()
+        .find_map(|p| match p.material.as_ref().map(|m| &m.spec) {
+            Some(MaterialSpec::Glass { attenuation, .. }) => Some(*attenuation),
+            _ => None,
+        })
+        .expect("a glass");
+    (attenuation, loaded.warnings)
+}
+
+#[test]
+fn volume_attenuation_is_read_where_the_mesh_encloses_a_volume() {
+    // thicknessFactor > 0: a volume, absorbing as its attenuation says, with no warning.
+    let (a, warnings) = glass_attenuation(
+        "volume.glb",
+        json!({"thicknessFactor": 0.5, "attenuationColor": [0.5, 0.8, 1.0], "attenuationDistance": 2.0}),
+    );
+    assert_eq!(
+        a,
+        Some(Attenuation {
+            color: Rgb::new(0.5, 0.8, 1.0),
+            distance: 2.0
+        })
+    );
+    assert!(
+        !warnings.iter().any(|w| w.contains("KHR_materials_volume")),
+        "{warnings:?}"
+    );
+    // The extension's defaults (colour 1, distance ∞) are clear glass.
+    let (a, _) = glass_attenuation("clear.glb", json!({"thicknessFactor": 0.5}));
+    assert_eq!(a, None);
+    let (a, _) = glass_attenuation(
+        "far.glb",
+        json!({"thicknessFactor": 0.5, "attenuationColor": [0.5, 0.8, 1.0]}),
+    );
+    assert_eq!(a, None);
+    // thicknessFactor 0 (the default) is thin-walled: no volume to absorb in, and a warning.
+    let (a, warnings) = glass_attenuation(
+        "thin.glb",
+        json!({"attenuationColor": [0.5, 0.8, 1.0], "attenuationDistance": 2.0}),
+    );
+    assert_eq!(a, None);
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("thicknessFactor 0") && w.contains("without absorption")),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn volume_attenuation_outside_the_extensions_ranges_is_refused() {
+    for (name, volume) in [
+        (
+            "zero-distance.glb",
+            json!({"thicknessFactor": 1.0, "attenuationDistance": 0.0}),
+        ),
+        (
+            "bright.glb",
+            json!({"thicknessFactor": 1.0, "attenuationColor": [1.5, 1.0, 1.0], "attenuationDistance": 1.0}),
+        ),
+    ] {
+        let Err(e) = import_scene(&card_file(name, glass_card(volume))) else {
+            panic!("{name} was accepted");
+        };
+        let e = e.to_string();
+        assert!(e.contains("KHR_materials_volume attenuation"), "{e}");
     }
 }
 

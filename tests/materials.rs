@@ -59,10 +59,7 @@ fn mirror_reflects_about_the_normal() {
 
 #[test]
 fn dielectric_conserves_energy_and_picks_branches_by_fresnel() {
-    let glass = Dielectric {
-        ior: 1.5,
-        transmittance: Rgb::ONE,
-    };
+    let glass = Dielectric::new(1.5, Rgb::ONE);
     let m = Material::Dielectric(glass);
     let mut rng = Rng::keyed(2, &[]);
     for cos in [0.95f32, 0.5, 0.1, -0.95, -0.5, -0.3] {

@@ -95,6 +95,14 @@ fn cases() -> Vec<Case> {
             format!("{CAMERA}\n[materials.wood]\ntype = \"diffuse\"\nalbedo = {{ texture = \"wood.png\" }}\n"),
         ),
         toml_case(
+            "glass_attenuation_above_one",
+            format!("{CAMERA}\n[materials.glass]\ntype = \"glass\"\nattenuation = {{ color = [1.2, 0.5, 0.5], distance = 1.0 }}\n"),
+        ),
+        toml_case(
+            "glass_attenuation_distance_zero",
+            format!("{CAMERA}\n[materials.glass]\ntype = \"glass\"\nattenuation = {{ color = 0.5, distance = 0 }}\n"),
+        ),
+        toml_case(
             "missing_mesh_file",
             format!("{CAMERA}{MATERIAL}\n[[shapes]]\ntype = \"mesh\"\nfile = \"bunny.obj\"\n"),
         ),

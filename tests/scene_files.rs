@@ -109,6 +109,7 @@ fn every_documented_example_survives_a_round_trip_through_toml() {
         "\"directional\"",
         "\"spot\"",
         "emission = {",
+        "attenuation = {",
     ] {
         assert!(all.contains(needle), "the examples never write {needle}");
     }

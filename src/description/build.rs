@@ -214,18 +214,22 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
             ior,
             transmittance,
             alpha,
-        } => b.material(if *alpha > 0.0 {
-            Material::RoughDielectric(RoughDielectric {
-                ior: *ior,
-                ggx: Ggx::isotropic(*alpha),
-                transmittance: *transmittance,
-            })
-        } else {
-            Material::Dielectric(Dielectric {
-                ior: *ior,
-                transmittance: *transmittance,
-            })
-        }),
+            attenuation,
+        } => b.material_with_maps(
+            if *alpha > 0.0 {
+                Material::RoughDielectric(RoughDielectric::new(
+                    *ior,
+                    Ggx::isotropic(*alpha),
+                    *transmittance,
+                ))
+            } else {
+                Material::Dielectric(Dielectric::new(*ior, *transmittance))
+            },
+            TextureMaps {
+                attenuation: *attenuation,
+                ..TextureMaps::default()
+            },
+        )?,
         MaterialSpec::Conductor { fresnel, alpha } => {
             let fresnel = match *fresnel {
                 ConductorSpec::Metal(m) => {
@@ -265,6 +269,7 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
                     None => None,
                 },
                 coverage: p.coverage,
+                attenuation: None,
             };
             let pbr = Pbr::new(base, p.metallic, p.roughness).with_specular(p.specular);
             b.material_with_maps(Material::Pbr(pbr), maps)?

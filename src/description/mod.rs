@@ -97,11 +97,13 @@ pub enum MaterialSpec {
     Mirror {
         reflectance: Rgb,
     },
-    /// Dielectric: smooth (`alpha` 0: Fresnel reflection and refraction) or rough (GGX).
+    /// Dielectric: smooth (`alpha` 0: Fresnel reflection and refraction) or rough (GGX),
+    /// absorbing inside by `attenuation` (`None`: clear).
     Glass {
         ior: f32,
         transmittance: Rgb,
         alpha: f32,
+        attenuation: Option<crate::material::Attenuation>,
     },
     /// GGX metal; `alpha` along the shading frame's two tangents (equal: isotropic).
     Conductor {

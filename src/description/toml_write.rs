@@ -48,12 +48,23 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 ior,
                 transmittance,
                 alpha,
+                attenuation,
             } => {
                 w.kv("type", "\"glass\"");
                 w.kv("ior", &float(*ior));
                 w.kv("transmittance", &vec3(*transmittance));
                 if *alpha > 0.0 {
                     w.kv("alpha", &float(*alpha));
+                }
+                if let Some(a) = attenuation {
+                    w.kv(
+                        "attenuation",
+                        &format!(
+                            "{{ color = {}, distance = {} }}",
+                            vec3(a.color),
+                            float(a.distance)
+                        ),
+                    );
                 }
             }
             MaterialSpec::Conductor { fresnel, alpha } => {

@@ -8,6 +8,10 @@ pub struct Dielectric {
     pub ior: f32,
     /// Multiplies transmitted light (1 for clear glass).
     pub transmittance: Rgb,
+    /// The Beer–Lambert transmittance of the segment a path travelled inside the volume to
+    /// reach this hit, scaling both branches (1 unless set by
+    /// [`super::Material::attenuated`]).
+    pub segment: Rgb,
 }
 
 /// Unpolarised Fresnel reflectance of a dielectric boundary for light arriving with cosine
@@ -29,6 +33,16 @@ pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
 }
 
 impl Dielectric {
+    /// Clear glass of index `ior` (inside over outside) whose refraction is scaled by
+    /// `transmittance`.
+    pub fn new(ior: f32, transmittance: Rgb) -> Self {
+        Self {
+            ior,
+            transmittance,
+            segment: Rgb::ONE,
+        }
+    }
+
     /// Both branches with their weights; refraction is `None` under total internal reflection.
     pub fn branches(
         &self,
@@ -38,7 +52,7 @@ impl Dielectric {
         let f = fresnel_dielectric(wo.z, self.ior);
         let reflected = SpecularBranch {
             wi: Vec3::new(-wo.x, -wo.y, wo.z),
-            weight: Rgb::splat(f),
+            weight: self.segment * f,
         };
         if f >= 1.0 {
             return (reflected, None);
@@ -57,7 +71,7 @@ impl Dielectric {
         };
         let refracted = SpecularBranch {
             wi,
-            weight: self.transmittance * ((1.0 - f) * radiance_scale),
+            weight: self.transmittance * self.segment * ((1.0 - f) * radiance_scale),
         };
         (reflected, Some(refracted))
     }
@@ -65,7 +79,7 @@ impl Dielectric {
     /// Pick reflection or refraction with probability F and 1 − F.
     pub fn sample(&self, wo: Vec3, u_lobe: f32, mode: TransportMode) -> Option<BsdfSample> {
         let (reflected, refracted) = self.branches(wo, mode);
-        let f = reflected.weight.x;
+        let f = fresnel_dielectric(wo.z, self.ior);
         match refracted {
             Some(t) if u_lobe >= f => Some(BsdfSample {
                 wi: t.wi,
@@ -75,7 +89,7 @@ impl Dielectric {
             }),
             _ => Some(BsdfSample {
                 wi: reflected.wi,
-                weight: Rgb::ONE,
+                weight: self.segment,
                 pdf: f,
                 lobe: Lobes::SPECULAR_REFLECTION,
             }),
@@ -101,10 +115,7 @@ mod tests {
 
     #[test]
     fn refraction_obeys_snell_and_goes_through() {
-        let glass = Dielectric {
-            ior: 1.5,
-            transmittance: Rgb::ONE,
-        };
+        let glass = Dielectric::new(1.5, Rgb::ONE);
         let wo = Vec3::new(0.6, 0.0, 0.8);
         let (_, t) = glass.branches(wo, TransportMode::Importance);
         let t = t.expect("no TIR from outside");

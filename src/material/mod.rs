@@ -39,6 +39,32 @@ use crate::math::{Rgb, Vec2, Vec3, luminance};
 /// would need.
 pub const NEAR_SPECULAR_ALPHA: f32 = 0.3;
 
+/// Beer–Lambert absorption in the volume a dielectric encloses (the `KHR_materials_volume`
+/// parameters): white light that travels `distance` inside comes out as `color`, so a
+/// segment of length d keeps `color`^(d / `distance`) of each channel, i.e. exp(−σₐ d) with
+/// σₐ = −ln(`color`) / `distance` (the extension's definition; pbrt-v4's homogeneous medium
+/// with no scattering). The volume only absorbs: there is no scattering or emission in it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Attenuation {
+    /// The colour white light turns into at `distance`, each channel in [0, 1] (checked by
+    /// the scene builder: absorption only removes light).
+    pub color: Rgb,
+    /// In scene units, positive.
+    pub distance: f32,
+}
+
+impl Attenuation {
+    /// The fraction of each channel left after travelling `length` inside.
+    #[inline]
+    pub fn transmittance(&self, length: f32) -> Rgb {
+        // `powf`: 0^0 = 1 keeps a zero-length segment clear even in a black channel, where
+        // exp(−∞ · 0) would be NaN.
+        let x = length.max(0.0) / self.distance;
+        let c = self.color;
+        Rgb::new(c.x.powf(x), c.y.powf(x), c.z.powf(x))
+    }
+}
+
 /// Whether the path carries radiance (from the camera) or importance/flux (from the lights).
 /// Refraction scales radiance by 1/η² but not flux (Veach 1997, ch. 5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -220,6 +246,36 @@ impl Material {
         !matches!(self, Material::Dielectric(_) | Material::RoughDielectric(_))
     }
 
+    /// The material as met by a path that reached it through the volume it encloses: every
+    /// lobe, reflection and refraction alike, scaled by `transmittance`, the Beer–Lambert
+    /// transmittance of the segment travelled inside (see [`Attenuation`]), since whatever
+    /// the path does here it has crossed that segment. Densities are unchanged, so sample
+    /// weights carry the factor and MIS weights do not. Only dielectrics enclose a volume;
+    /// other materials are returned as they are.
+    #[inline]
+    pub fn attenuated(self, transmittance: Rgb) -> Material {
+        match self {
+            Material::Dielectric(mut m) => {
+                m.segment *= transmittance;
+                Material::Dielectric(m)
+            }
+            Material::RoughDielectric(mut m) => {
+                m.segment *= transmittance;
+                Material::RoughDielectric(m)
+            }
+            Material::Lambertian(_)
+            | Material::Mirror(_)
+            | Material::Conductor(_)
+            | Material::Pbr(_) => self,
+        }
+    }
+
+    /// Whether the material encloses a volume (a path on the inner side of its outward
+    /// normal is inside it): dielectrics.
+    pub fn encloses_volume(&self) -> bool {
+        !self.is_two_sided()
+    }
+
     /// BSDF value of every lobe for a pair of directions (zero for delta lobes).
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
@@ -337,12 +393,12 @@ impl Material {
             Material::Mirror(m) => m.reflectance,
             Material::Dielectric(m) => {
                 let f = fresnel_dielectric(wo.z, m.ior);
-                Rgb::splat(f) + (1.0 - f) * m.transmittance
+                m.segment * (Rgb::splat(f) + (1.0 - f) * m.transmittance)
             }
             Material::Conductor(m) => m.fresnel.eval(wo.z.abs()),
             Material::RoughDielectric(m) => {
                 let f = fresnel_dielectric(wo.z, m.ior);
-                Rgb::splat(f) + (1.0 - f) * m.transmittance
+                m.segment * (Rgb::splat(f) + (1.0 - f) * m.transmittance)
             }
             Material::Pbr(m) => m.albedo(wo, part),
         }

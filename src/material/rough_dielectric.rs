@@ -13,6 +13,10 @@ pub struct RoughDielectric {
     pub ggx: Ggx,
     /// Multiplies transmitted light (1 for clear glass).
     pub transmittance: Rgb,
+    /// The Beer–Lambert transmittance of the segment a path travelled inside the volume to
+    /// reach this hit, scaling both lobes (1 unless set by
+    /// [`super::Material::attenuated`]); the density is not scaled.
+    pub segment: Rgb,
 }
 
 /// The microfacet normal (upper hemisphere) that takes `wo` to `wi`, with the relative index
@@ -62,6 +66,17 @@ fn refract(w: Vec3, n: Vec3, ior: f32) -> Option<Vec3> {
 }
 
 impl RoughDielectric {
+    /// Clear rough glass of index `ior` (inside over outside) whose refraction is scaled by
+    /// `transmittance`.
+    pub fn new(ior: f32, ggx: Ggx, transmittance: Rgb) -> Self {
+        Self {
+            ior,
+            ggx,
+            transmittance,
+            segment: Rgb::ONE,
+        }
+    }
+
     pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
         let Some((m, etap, is_reflection)) = half_vector(wo, wi, self.ior) else {
             return Rgb::ZERO;
@@ -69,7 +84,7 @@ impl RoughDielectric {
         let f = fresnel_dielectric(wo.dot(m), self.ior);
         let dg = self.ggx.d(m) * self.ggx.g(wo, wi);
         if is_reflection {
-            return Rgb::splat(dg * f / (4.0 * (wo.z * wi.z).abs()));
+            return self.segment * (dg * f / (4.0 * (wo.z * wi.z).abs()));
         }
         let denom = wi.dot(m) + wo.dot(m) / etap;
         let mut value =
@@ -77,7 +92,7 @@ impl RoughDielectric {
         if mode == TransportMode::Radiance {
             value /= etap * etap;
         }
-        self.transmittance * value
+        self.transmittance * self.segment * value
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {

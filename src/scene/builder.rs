@@ -4,7 +4,7 @@ use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
 use crate::geometry::{Disk, Shape, Sphere, Triangle};
 use crate::light::{AreaLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
-use crate::material::Material;
+use crate::material::{Attenuation, Material};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
 use crate::texture::{MappedTexture, Texture, UvMapping};
@@ -41,7 +41,7 @@ struct Object {
 }
 
 /// The textures a material may carry (see [`SceneBuilder::material_with_maps`]), each with
-/// its own mapping, and the material's coverage.
+/// its own mapping, the material's coverage, and the absorption inside a dielectric.
 #[derive(Clone, Debug, Default)]
 pub struct TextureMaps {
     /// Multiplies the albedo or base colour (sRGB-decoded); its alpha is the coverage's.
@@ -52,6 +52,8 @@ pub struct TextureMaps {
     pub normal: Option<(MappedTexture, f32)>,
     /// Where the surface is there at all (cut-outs, partly transparent surfaces).
     pub coverage: Coverage,
+    /// Beer–Lambert absorption in the volume a dielectric encloses (`None`: clear).
+    pub attenuation: Option<Attenuation>,
 }
 
 /// Collects objects, materials and lights, then validates them into a [`Scene`].
@@ -146,6 +148,25 @@ impl SceneBuilder {
                 "a material's alpha {alpha} must be finite"
             )));
         }
+        if let Some(a) = maps.attenuation {
+            if !m.encloses_volume() {
+                return Err(Error::InvalidScene(
+                    "only glass (dielectric) materials absorb inside".into(),
+                ));
+            }
+            // Absorption only removes light: a colour above 1 would add it.
+            let c = a.color;
+            if !(c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0)
+                || a.distance.is_nan()
+                || a.distance <= 0.0
+            {
+                return Err(Error::InvalidScene(format!(
+                    "a glass's attenuation colour {:?} must be in [0, 1] and its distance {} positive",
+                    c.to_array(),
+                    a.distance
+                )));
+            }
+        }
         let mut push = |t: Option<MappedTexture>| {
             t.map(|t| {
                 self.textures.push(t);
@@ -159,6 +180,7 @@ impl SceneBuilder {
             normal: push(maps.normal.map(|n| n.0)),
             normal_scale,
             coverage: maps.coverage,
+            attenuation: maps.attenuation,
         };
         self.materials.push(m);
         self.material_textures.push(ids);

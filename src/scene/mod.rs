@@ -27,12 +27,14 @@ use crate::accel::RayEngine;
 use crate::camera::CameraDesc;
 use crate::geometry::{Bounds, Shape};
 use crate::light::{EnvironmentLight, Light};
-use crate::material::{Material, Pbr};
+use crate::material::{Attenuation, Material, Pbr};
 use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
 use crate::texture::{MappedTexture, Texture};
 
-/// Indices of a material's textures in the scene's texture list, and its coverage.
+/// Indices of a material's textures in the scene's texture list, its coverage and the
+/// absorption inside it: what a hit resolves into the material ([`Scene::surface`]), which
+/// stays a small `Copy` value.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct MaterialMaps {
     pub base: Option<u32>,
@@ -40,6 +42,8 @@ pub(crate) struct MaterialMaps {
     pub normal: Option<u32>,
     pub normal_scale: f32,
     pub coverage: Coverage,
+    /// Absorption in the volume a dielectric encloses.
+    pub attenuation: Option<Attenuation>,
 }
 
 /// How much of a surface is there (glTF 2.0 §3.9.4, `alphaMode`). Its alpha is `alpha`
@@ -63,6 +67,7 @@ pub const NO_LIGHT: u32 = u32::MAX;
 /// A ray–scene intersection.
 #[derive(Clone, Copy, Debug)]
 pub struct Hit {
+    /// Distance along the ray (whose direction has unit length).
     pub t: f32,
     pub p: Vec3,
     /// Geometric normal of the primitive as modelled (outward for spheres, winding for triangles).
@@ -265,10 +270,25 @@ impl Scene {
 
     /// The material at a hit and its shading frame seen from `wo` (normal-mapped where the
     /// material has a normal map).
+    ///
+    /// Met from inside an absorbing dielectric (`wo` on the inner side of the outward
+    /// geometric normal), the path has just travelled `hit.t` through its volume, and the
+    /// material comes with that segment's Beer–Lambert transmittance on every lobe
+    /// ([`Material::attenuated`]). Each segment inside a closed volume ends at such a hit,
+    /// and paths from the camera and from the lights alike meet it in the order travelled,
+    /// so every integrator, and photons, attenuate each segment once, where the path goes on
+    /// (through the surface or reflected back inside). Shadow rays never cross a dielectric
+    /// (it occludes), so they need no attenuation. Surfaces enclosed in the glass are not in
+    /// its volume: media do not nest.
     #[inline]
     pub fn surface(&self, hit: &Hit, wo: Vec3) -> (Material, Frame) {
-        let m = self.material_at(hit);
         let maps = &self.material_textures[hit.material as usize];
+        let m = match maps.attenuation {
+            Some(a) if hit.ng.dot(wo) < 0.0 => {
+                self.material_at(hit).attenuated(a.transmittance(hit.t))
+            }
+            _ => self.material_at(hit),
+        };
         if let Some(t) = maps.normal
             && let Some(ns) = self.normal_mapped(hit, t, maps.normal_scale)
         {

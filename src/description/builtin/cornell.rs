@@ -143,6 +143,7 @@ pub fn desc() -> SceneDesc {
             ior: 1.5,
             transmittance: Rgb::ONE,
             alpha: 0.0,
+            attenuation: None,
         },
     );
     let mirror = d.material(

@@ -60,6 +60,7 @@ pub fn desc() -> SceneDesc {
             ior: 2.4,
             transmittance: Rgb::ONE,
             alpha: 0.0,
+            attenuation: None,
         },
     );
     let clay = d.diffuse("terracotta", TERRACOTTA);

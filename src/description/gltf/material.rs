@@ -7,6 +7,7 @@ use crate::description::mesh::ImportedMaterial;
 use crate::description::{ColorSpec, EmissionSpec, ImageRef, MaterialSpec, PbrSpec, SharedTexture};
 use crate::error::Result;
 use crate::io::texture::Encoding;
+use crate::material::Attenuation;
 use crate::math::Rgb;
 use crate::scene::Coverage;
 use crate::texture::{UvMapping, Wrap};
@@ -113,6 +114,43 @@ pub(super) fn uv_mapping(
     })
 }
 
+/// The absorption inside a transmissive material, from `KHR_materials_volume`: its attenuation
+/// colour and distance (world units) where `thicknessFactor` > 0 says the mesh encloses a
+/// volume; `None` for clear glass (colour 1 or distance ∞, the extension's defaults). The
+/// thickness itself is not needed: refraction is traced through the real geometry, which is
+/// what the extension asks of path tracers (its thickness is a rasteriser's stand-in).
+fn attenuation(
+    g: &Opened,
+    sink: &mut Sink,
+    m: &gltf::Material,
+    name: &str,
+) -> Result<Option<Attenuation>> {
+    let Some(volume) = m.volume() else {
+        // Blender writes no volume for its glass; its objects are solid all the same.
+        sink.warn("transmissive materials without KHR_materials_volume are rendered as solid glass (refracting), not thin-walled");
+        return Ok(None);
+    };
+    let color = Rgb::from_array(volume.attenuation_color());
+    let distance = volume.attenuation_distance();
+    // The extension's ranges: the colour in [0, 1], the distance > 0 (default +∞).
+    if !(color.is_finite() && color.min_element() >= 0.0 && color.max_element() <= 1.0)
+        || distance.is_nan()
+        || distance <= 0.0
+    {
+        return Err(g.error(format!(
+            "material '{name}' has KHR_materials_volume attenuation colour {:?} and distance {distance}: the colour must be in [0, 1] and the distance positive",
+            color.to_array()
+        )));
+    }
+    let clear = color == Rgb::ONE || distance == f32::INFINITY;
+    if volume.thickness_factor() <= 0.0 {
+        // Thin-walled by the extension's letter: no volume to absorb in.
+        sink.warn("KHR_materials_volume with thicknessFactor 0 (thin-walled) is rendered as solid glass without absorption");
+        return Ok(None);
+    }
+    Ok((!clear).then_some(Attenuation { color, distance }))
+}
+
 pub(super) fn convert_material(
     g: &Opened,
     sink: &mut Sink,
@@ -185,14 +223,11 @@ pub(super) fn convert_material(
         if transmission < 1.0 {
             sink.warn("partial transmission is rendered as fully transmissive glass");
         }
-        if m.volume().is_none() {
-            // Blender writes no volume for its glass; its objects are solid all the same.
-            sink.warn("transmissive materials without KHR_materials_volume are rendered as solid glass (refracting), not thin-walled");
-        }
         MaterialSpec::Glass {
             ior: m.ior().unwrap_or(1.5),
             transmittance: base,
             alpha: roughness * roughness,
+            attenuation: attenuation(g, sink, m, &name)?,
         }
     } else {
         let base_color = match pbr.base_color_texture() {

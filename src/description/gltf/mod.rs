@@ -2,7 +2,8 @@
 //! node hierarchy, the first perspective camera, `KHR_lights_punctual` point, spot and
 //! directional lights, and
 //! metallic-roughness materials mapped onto ours (alpha masks and blending as coverage):
-//! - `KHR_materials_transmission` > 0 → glass of index `KHR_materials_ior` (1.5);
+//! - `KHR_materials_transmission` > 0 → glass of index `KHR_materials_ior` (1.5), absorbing
+//!   inside by `KHR_materials_volume`'s attenuation where its `thicknessFactor` > 0;
 //! - metallic ≥ 0.5 and roughness < 0.5 → mirror tinted by the base colour;
 //! - otherwise diffuse with the base colour (factor × texture), also for rough metals;
 //! - emissive factor × `KHR_materials_emissive_strength` > 0 → an area light of that radiance.
@@ -318,12 +319,10 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_texture_transform",
     "KHR_materials_specular",
+    "KHR_materials_volume",
 ];
 /// Extensions Blender writes routinely, with what of them we cannot show.
-const PARTLY_MAPPED: &[(&str, &str)] = &[(
-    "KHR_materials_volume",
-    "is ignored: glass is clear (no absorption inside); its thickness is not needed, refraction is traced",
-)];
+const PARTLY_MAPPED: &[(&str, &str)] = &[];
 
 /// A GLB's declared length must cover its 12-byte header and fit the file: `gltf` 1.4
 /// subtracts the header size from it unchecked.

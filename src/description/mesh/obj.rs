@@ -118,6 +118,7 @@ fn convert(m: &tobj::Material, warnings: &mut Vec<String>) -> ImportedMaterial {
             ior: m.optical_density.unwrap_or(1.5),
             transmittance: Rgb::ONE,
             alpha: 0.0,
+            attenuation: None,
         },
         _ => MaterialSpec::Diffuse {
             albedo: match &m.diffuse_texture {

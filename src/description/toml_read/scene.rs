@@ -8,7 +8,7 @@ use crate::description::{
 };
 use crate::error::{Error, Result};
 use crate::film::PixelFilter;
-use crate::material::Metal;
+use crate::material::{Attenuation, Metal};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::render::MAX_RESOLUTION;
 use toml::de::DeValue;
@@ -161,7 +161,7 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
             })
         }
         "glass" => {
-            t.allow(&["type", "ior", "transmittance", "alpha"])?;
+            t.allow(&["type", "ior", "transmittance", "alpha", "attenuation"])?;
             let ior = t.opt_f32("ior")?.unwrap_or(1.5);
             if ior <= 0.0 {
                 return Err(t.cx.err(
@@ -173,6 +173,7 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
                 ior,
                 transmittance: t.opt_color("transmittance")?.unwrap_or(Rgb::ONE),
                 alpha: alphas(t, false)?[0],
+                attenuation: attenuation(t)?,
             })
         }
         "conductor" => {
@@ -226,6 +227,32 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
             &["diffuse", "mirror", "glass", "conductor", "pbr"],
         )),
     }
+}
+
+/// Glass's absorption inside, `attenuation = { color = [r, g, b], distance = d }`: white light
+/// that travels `d` inside comes out as `color` (`KHR_materials_volume`'s attenuation colour
+/// and distance).
+fn attenuation(t: &Table) -> Result<Option<Attenuation>> {
+    let Some(v) = t.get("attenuation") else {
+        return Ok(None);
+    };
+    let a = t.cx.table(v, &t.label("attenuation"))?;
+    a.allow(&["color", "distance"])?;
+    let c = a.required("color")?;
+    let color = color(t.cx, c, &a.label("color"))?;
+    if color.max_element() > 1.0 {
+        return Err(t.cx.err(
+            c.span(),
+            format!(
+                "{} must be between 0 and 1 (absorption only removes light)",
+                a.label("color")
+            ),
+        ));
+    }
+    Ok(Some(Attenuation {
+        color,
+        distance: a.positive("distance")?,
+    }))
 }
 
 /// A number in [0, 1], or `default` when absent.
