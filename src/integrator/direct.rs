@@ -3,11 +3,10 @@
 //! samples per area light, and mirror and glass followed recursively. No indirect diffuse light.
 
 use super::{RayStats, Sample, ShadingPoint, own_light_pdf_for_hit, power_heuristic, shadowed};
-use crate::light::{EnvironmentLight, Light};
 use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::{Rng, Sampler};
-use crate::scene::Scene;
+use crate::scene::{NO_LIGHT, Scene};
 
 #[derive(Clone, Debug)]
 pub struct DirectConfig {
@@ -104,12 +103,19 @@ fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk
 /// Light arriving directly from every light, averaged over `light_samples` samples for area
 /// lights, through every lobe with a density.
 ///
+/// The rough part is estimated by multiple importance sampling (Veach & Guibas 1995, power
+/// heuristic): `light_samples` samples of every area light and of the sky, and as many samples
+/// of the rough part of the BSDF, each of which counts the emission or sky it finds. Light
+/// sampling alone has unbounded variance where a rough surface sees an emitter from close by
+/// (a ceiling lit by a panel 1 cm below it: the 1/r² of the area measure), and BSDF sampling
+/// alone where a small light is far; the two together are bounded in both.
+///
 /// `continued` is the probability with which the caller's walk also samples the material's
 /// smooth part here (and so may hit the same light): the smooth lobes' share of each light
-/// sample is then weighted by the power heuristic against that sampling (Veach & Guibas 1995,
-/// with the sample counts: n light samples, one BSDF sample), and the walk weights its emission
-/// hits by [`emission_weight`]. `None`: the walk never counts emission it finds through lobes
-/// with a density.
+/// sample is then weighted by the power heuristic against that sampling (with the sample
+/// counts: n light samples, one BSDF sample), and the walk weights its emission hits by
+/// [`emission_weight`]. `None`: the walk never counts emission it finds through lobes with a
+/// density.
 pub(crate) fn direct_light(
     c: &DirectConfig,
     scene: &Scene,
@@ -121,32 +127,23 @@ pub(crate) fn direct_light(
     let m = &sp.material;
     let mis = continued.filter(|_| m.has(Part::Smooth));
     let has_smooth = m.has(Part::Smooth);
-    // A sky is also found by sampling the rough part of the BSDF (cosine-distributed on
-    // diffuse surfaces), which beats sampling the sky where the BSDF is the narrower factor.
-    // The rough and smooth parts are two integrals, each with its own MIS: the rough part's
-    // light and BSDF samples against each other, the smooth part's light samples against the
-    // walk's continuation.
-    let sample_sky_by_bsdf = m.has(Part::Rough);
+    let has_rough = m.has(Part::Rough);
+    let n = c.light_samples.max(1);
     let mut sum = Rgb::ZERO;
+    let mut has_extended_light = false;
     for light in scene.lights() {
-        let n = if light.is_delta() {
-            1
-        } else {
-            c.light_samples.max(1)
-        };
-        let sky = match light {
-            Light::Environment(e) if sample_sky_by_bsdf => Some(e),
-            _ => None,
-        };
+        let samples = if light.is_delta() { 1 } else { n };
+        has_extended_light |= !light.is_delta();
         let mut acc = Rgb::ZERO;
-        for _ in 0..n {
+        for _ in 0..samples {
             let u_pick = rng.next_f32();
             let Some(ls) = light.sample_li(sp.hit.p, u_pick, rng.next_2d()) else {
                 continue;
             };
             let wi = sp.frame.to_local(ls.wi);
             let mut f = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Rough);
-            if sky.is_some() {
+            if has_rough && !ls.is_delta {
+                // As many rough BSDF samples as light samples: the counts cancel.
                 f *= power_heuristic(ls.pdf, m.pdf_part(sp.wo_local, wi, Part::Rough));
             }
             if has_smooth {
@@ -161,22 +158,23 @@ pub(crate) fn direct_light(
             }
             acc += shadowed(scene, sp, &ls, f, stats);
         }
-        if let Some(sky) = sky {
-            for _ in 0..n {
-                acc += sky_by_bsdf(scene, sp, sky, rng, stats);
-            }
+        sum += acc / samples as f32;
+    }
+    if has_rough && has_extended_light {
+        let mut acc = Rgb::ZERO;
+        for _ in 0..n {
+            acc += emission_by_rough_bsdf(scene, sp, rng, stats);
         }
         sum += acc / n as f32;
     }
     sum
 }
 
-/// One sample of the rough part toward the sky, weighted by the power heuristic against
-/// sampling the sky.
-fn sky_by_bsdf(
+/// One sample of the rough part: the emission or sky it finds, weighted by the power heuristic
+/// against sampling the light it found (an equal number of samples of each).
+fn emission_by_rough_bsdf(
     scene: &Scene,
     sp: &ShadingPoint,
-    sky: &EnvironmentLight,
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
@@ -191,15 +189,23 @@ fn sky_by_bsdf(
         return Rgb::ZERO;
     };
     let wi = sp.frame.to_world(s.wi);
-    let l = sky.radiance(wi);
-    if l == Rgb::ZERO {
-        return Rgb::ZERO;
-    }
     stats.shadow += 1;
-    if scene.occluded(offset_origin(sp.hit.p, sp.hit.ng, wi), wi, f32::INFINITY) {
+    let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
+    let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
+        return match scene.environment() {
+            Some((_, sky)) => s.weight * sky.radiance(wi) * power_heuristic(s.pdf, sky.pdf(wi)),
+            None => Rgb::ZERO,
+        };
+    };
+    if hit.light == NO_LIGHT {
         return Rgb::ZERO;
     }
-    s.weight * l * power_heuristic(s.pdf, sky.pdf(wi))
+    let le = scene.emitted(&hit, -wi);
+    if le == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let p_light = own_light_pdf_for_hit(scene, sp.hit.p, &hit);
+    s.weight * le * power_heuristic(s.pdf, p_light)
 }
 
 /// The MIS weight of emission found by sampling the smooth part of the previous vertex (with
