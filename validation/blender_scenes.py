@@ -912,12 +912,51 @@ defines it), integrator `volpath`.
         print("  ", json.dumps(m))
 
 
+def rough_glass():
+    reset()
+    s = Twin("rough-glass", """
+Rough glass as Blender exports it: a Cornell-like box (white, red and green walls, flat-shaded)
+with a smooth UV sphere (radius 0.4, 64 x 32, shaded smooth) of Principled BSDF glass
+(transmission 1, IOR 1.5, white, Roughness 0.2828: the exporter writes roughnessFactor, and
+GGX alpha = roughness^2 = 0.08) standing on the floor, casting a blurred caustic. Light: an
+emissive 0.8 x 0.8 quad (strength 10; black base colour and Backface Culling, so one-sided,
+facing down) 5 cm below the ceiling, out of the frame. Mitsuba: `roughdielectric` (ggx, alpha
+0.08, int_ior 1.5, ext_ior 1) on the same mesh with the same vertex normals.
+""", spp=16384)
+    white = principled("white", WHITE)
+    red = principled("red", RED)
+    green = principled("green", GREEN)
+    lamp = one_sided_lamp(10.0)
+    glass = principled("rough-glass", (1.0, 1.0, 1.0), roughness=math.sqrt(0.08), specular_level=0.5)
+    p = glass.node_tree.nodes["Principled BSDF"]
+    p.inputs["Transmission Weight"].default_value = 1.0
+    p.inputs["IOR"].default_value = 1.5
+    room = room_object("room", [white, red, green], [0, 0, 0, 1, 2], smooth=False)
+    ball = uv_sphere_object("ball", (0.0, 0.4, -0.2), 0.4, glass, segments=64, rings=32)
+    light = quad_object("light", [(-0.4, 1.95, -0.4), (0.4, 1.95, -0.4), (0.4, 1.95, 0.4), (-0.4, 1.95, 0.4)], lamp)
+    s.set_camera(*STD_CAMERA)
+    s.bsdfs += [
+        diffuse_bsdf("white", WHITE), diffuse_bsdf("red", RED), diffuse_bsdf("green", GREEN),
+        '<bsdf type="roughdielectric" id="rough-glass"><string name="distribution" value="ggx"/>'
+        '<float name="alpha" value="0.08"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1.0"/></bsdf>',
+    ]
+    for ob in (room, ball):
+        s.add_object(ob, ref)
+    s.add_one_sided_emitter(light, (10.0, 10.0, 10.0))
+    s.write()
+    check_materials(os.path.join(s.dir, "rough-glass.glb"), {
+        "rough-glass": {"extensions/KHR_materials_transmission/transmissionFactor": 1.0,
+                        "pbrMetallicRoughness/roughnessFactor": None},
+    })
+
+
 SCENES = {
     "smooth-box": smooth_box,
     "flush-light": flush_light,
     "normal-mapped": normal_mapped,
     "alpha-fence": alpha_fence,
     "absorbing-glass": absorbing_glass,
+    "rough-glass": rough_glass,
 }
 
 
