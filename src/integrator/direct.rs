@@ -104,11 +104,11 @@ fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk
 /// lights, through every lobe with a density.
 ///
 /// The rough part is estimated by multiple importance sampling (Veach & Guibas 1995, power
-/// heuristic): `light_samples` samples of every area light and of the sky, and as many samples
-/// of the rough part of the BSDF, each of which counts the emission or sky it finds. Light
-/// sampling alone has unbounded variance where a rough surface sees an emitter from close by
-/// (a ceiling lit by a panel 1 cm below it: the 1/r² of the area measure), and BSDF sampling
-/// alone where a small light is far; the two together are bounded in both.
+/// heuristic, with the sample counts) where light sampling alone would be poor
+/// ([`crate::light::Light::is_bsdf_sampled_at`]: the sky, and area lights seen from close by, where the 1/r²
+/// of the area measure makes its variance unbounded): `light_samples` samples of each such
+/// light, and one sample of the rough part of the BSDF, which counts the emission or sky it
+/// finds there.
 ///
 /// `continued` is the probability with which the caller's walk also samples the material's
 /// smooth part here (and so may hit the same light): the smooth lobes' share of each light
@@ -130,10 +130,11 @@ pub(crate) fn direct_light(
     let has_rough = m.has(Part::Rough);
     let n = c.light_samples.max(1);
     let mut sum = Rgb::ZERO;
-    let mut has_extended_light = false;
+    let mut any_bsdf_sampled = false;
     for light in scene.lights() {
         let samples = if light.is_delta() { 1 } else { n };
-        has_extended_light |= !light.is_delta();
+        let bsdf_sampled = has_rough && light.is_bsdf_sampled_at(sp.hit.p);
+        any_bsdf_sampled |= bsdf_sampled;
         let mut acc = Rgb::ZERO;
         for _ in 0..samples {
             let u_pick = rng.next_f32();
@@ -142,9 +143,9 @@ pub(crate) fn direct_light(
             };
             let wi = sp.frame.to_local(ls.wi);
             let mut f = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Rough);
-            if has_rough && !ls.is_delta {
-                // As many rough BSDF samples as light samples: the counts cancel.
-                f *= power_heuristic(ls.pdf, m.pdf_part(sp.wo_local, wi, Part::Rough));
+            if bsdf_sampled {
+                let p_bsdf = m.pdf_part(sp.wo_local, wi, Part::Rough);
+                f *= power_heuristic(n as f32 * ls.pdf, p_bsdf);
             }
             if has_smooth {
                 let smooth = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Smooth);
@@ -160,21 +161,19 @@ pub(crate) fn direct_light(
         }
         sum += acc / samples as f32;
     }
-    if has_rough && has_extended_light {
-        let mut acc = Rgb::ZERO;
-        for _ in 0..n {
-            acc += emission_by_rough_bsdf(scene, sp, rng, stats);
-        }
-        sum += acc / n as f32;
+    if any_bsdf_sampled {
+        sum += emission_by_rough_bsdf(scene, sp, n as f32, rng, stats);
     }
     sum
 }
 
-/// One sample of the rough part: the emission or sky it finds, weighted by the power heuristic
-/// against sampling the light it found (an equal number of samples of each).
+/// One sample of the rough part: the emission or sky it finds, if direct lighting at this
+/// point samples that light by BSDF too, weighted by the power heuristic against
+/// `light_samples` samples of the light.
 fn emission_by_rough_bsdf(
     scene: &Scene,
     sp: &ShadingPoint,
+    light_samples: f32,
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
@@ -193,11 +192,13 @@ fn emission_by_rough_bsdf(
     let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
     let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
         return match scene.environment() {
-            Some((_, sky)) => s.weight * sky.radiance(wi) * power_heuristic(s.pdf, sky.pdf(wi)),
+            Some((_, sky)) => {
+                s.weight * sky.radiance(wi) * power_heuristic(s.pdf, light_samples * sky.pdf(wi))
+            }
             None => Rgb::ZERO,
         };
     };
-    if hit.light == NO_LIGHT {
+    if hit.light == NO_LIGHT || !scene.lights()[hit.light as usize].is_bsdf_sampled_at(sp.hit.p) {
         return Rgb::ZERO;
     }
     let le = scene.emitted(&hit, -wi);
@@ -205,7 +206,7 @@ fn emission_by_rough_bsdf(
         return Rgb::ZERO;
     }
     let p_light = own_light_pdf_for_hit(scene, sp.hit.p, &hit);
-    s.weight * le * power_heuristic(s.pdf, p_light)
+    s.weight * le * power_heuristic(s.pdf, light_samples * p_light)
 }
 
 /// The MIS weight of emission found by sampling the smooth part of the previous vertex (with

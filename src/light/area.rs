@@ -1,5 +1,5 @@
 use super::{LightSample, PhotonEmission};
-use crate::geometry::{Shape, ShapeHit};
+use crate::geometry::{Bounds, Shape, ShapeHit};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution1D, cosine_hemisphere};
 use crate::texture::{ImageTexture, UvMapping};
@@ -17,7 +17,14 @@ pub struct AreaLight {
     area: f32,
     by_area: Distribution1D,
     texture: Option<EmissionTexture>,
+    bounds: Bounds,
 }
+
+/// A point is near a light when its distance to the light's bounds is below this fraction of
+/// the bounds' diagonal. Farther away, r ≥ 0.5 · diagonal, so a light sample's weight
+/// L f cos θ cos θ′ A / r² is bounded by 2 L f (A ≤ diagonal² / 2): sampling the light alone
+/// is safe. Nearer, r can approach 0 and the estimate needs BSDF samples too.
+const NEAR_FRACTION: f32 = 0.5;
 
 /// An emitter's texture and the texture coordinates of its shapes.
 #[derive(Clone, Debug)]
@@ -37,7 +44,11 @@ impl AreaLight {
     pub fn new(shapes: Vec<Shape>, radiance: Rgb, two_sided: bool) -> Option<Self> {
         let areas: Vec<f64> = shapes.iter().map(|s| f64::from(s.area())).collect();
         let by_area = Distribution1D::new(&areas)?;
+        let bounds = shapes
+            .iter()
+            .fold(Bounds::EMPTY, |b, s| b.union(s.bounds()));
         Some(Self {
+            bounds,
             area: by_area.total() as f32,
             shapes,
             radiance,
@@ -113,6 +124,15 @@ impl AreaLight {
             Some(t) if l != Rgb::ZERO => l * t.read(uv),
             _ => l,
         }
+    }
+
+    /// Whether `p` is close enough for sampling the light alone to have unbounded variance
+    /// (see [`NEAR_FRACTION`]).
+    pub fn is_near(&self, p: Vec3) -> bool {
+        let outside = (self.bounds.min - p)
+            .max(p - self.bounds.max)
+            .max(Vec3::ZERO);
+        outside.length() < NEAR_FRACTION * self.bounds.extent().length()
     }
 
     pub fn area(&self) -> f32 {

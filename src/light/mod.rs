@@ -94,4 +94,16 @@ impl Light {
     pub fn is_delta(&self) -> bool {
         !matches!(self, Light::Area(_) | Light::Environment(_))
     }
+
+    /// Whether direct lighting at `p` samples the BSDF toward this light too, combined with
+    /// the light's own samples by multiple importance sampling: always for the sky (a BSDF
+    /// narrower than it is common), for an area light only where `p` is near it
+    /// ([`AreaLight::is_near`]), never for delta lights (a BSDF sample cannot find them).
+    pub fn is_bsdf_sampled_at(&self, p: Vec3) -> bool {
+        match self {
+            Light::Area(l) => l.is_near(p),
+            Light::Environment(_) => true,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => false,
+        }
+    }
 }
