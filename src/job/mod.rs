@@ -128,6 +128,12 @@ impl Manifest {
         let builtin = crate::description::builtin::BUILTINS
             .iter()
             .any(|b| b.name == self.scene);
+        if !builtin && !is_scene_file_path(&self.scene) {
+            return Err(format!(
+                "scene '{}' is not inside the job's '{SCENE_DIR}/' folder (expected a built-in scene's name, or a relative path such as '{SCENE_DIR}/scene.toml', without '..')",
+                self.scene.escape_debug()
+            ));
+        }
         if !builtin && !self.files.iter().any(|f| f.path == self.scene) {
             return Err(format!(
                 "scene '{}' is neither a built-in scene nor one of the job's files (expected a path under '{SCENE_DIR}/' listed in [[files]])",
