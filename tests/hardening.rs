@@ -430,8 +430,10 @@ fn nothing_the_user_had_is_overwritten() {
         std::fs::read_to_string(dir.join("s.toml")).expect("reads"),
         SPHERE
     );
-    // A partial file of a process that is gone (PID 0x7ffffffe does not run) disappears.
-    let stale = dir.join(".x.png.2147483646.partial");
+    // A partial file of this host's process that is gone (PID 0x7ffffffe does not run)
+    // disappears.
+    let host = photon::io::image::host_name();
+    let stale = dir.join(format!(".x.png.{host}.2147483646.partial"));
     std::fs::write(&stale, b"left by a killed writer").expect("write");
     let o = tiny(&dir, &[]);
     assert!(o.status.success(), "{}", stderr(&o));

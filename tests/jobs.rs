@@ -246,7 +246,7 @@ fn workers_are_idempotent_and_failures_are_reported_with_the_rerun() {
     assert!(text.contains("3 of 4 tasks done"), "{text}");
     assert!(text.contains("task 3 failed"), "{text}");
     assert!(text.contains("sbatch --array=3 "), "{text}");
-    assert!(text.contains("photon job run j --task $i"), "{text}");
+    assert!(text.contains("photon job run 'j' --task \"$i\""), "{text}");
     assert_usage_error(
         &photon(&["job", "run", "j", "--task", "4"], &dir),
         "tasks 0 to 3",
@@ -399,12 +399,16 @@ fn wait_for_slurm(ids: &[&str]) {
 }
 
 /// On a real one-node Slurm cluster (`.ci/slurm-up`): 8 tasks as an array and a merge job
-/// after it; one task cancelled on purpose, found by `job status`, rerun with the command it
-/// prints; the merged image equals a local single render byte for byte.
+/// after it, in a job folder whose name holds spaces, quotes, `$`, a command substitution and
+/// a newline followed by lines sbatch or a shell would obey; one task cancelled on purpose,
+/// found by `job status`, rerun with the command it prints; the merged image equals a local
+/// single render byte for byte, and nothing but the job ran.
 #[test]
 #[ignore = "needs a running Slurm cluster: .ci/slurm-up, then --ignored"]
 fn slurm_array_jobs_merge_bit_for_bit_and_rerun_a_cancelled_task() {
     let dir = temp_dir("jobs-slurm");
+    let name = "j 'a' \"b\" $HOME $(touch PWNED)\n#SBATCH --wrap=touch PWNED\ntouch PWNED";
+    let job = dir.join(name);
     let render = [
         "--integrator",
         "ppm",
@@ -417,11 +421,11 @@ fn slurm_array_jobs_merge_bit_for_bit_and_rerun_a_cancelled_task() {
         "--height",
         "64",
     ];
-    let mut create = vec!["job", "create", "--tasks", "8", "-o", "j", "cornell"];
+    let mut create = vec!["job", "create", "--tasks", "8", "-o", name, "cornell"];
     create.extend(render);
     ok(&photon(&create, &dir));
     let start = std::time::Instant::now();
-    let o = photon(&["job", "submit", "j", "--slurm", "--cpus", "1"], &dir);
+    let o = photon(&["job", "submit", name, "--slurm", "--cpus", "1"], &dir);
     let text = ok(&o);
     let ids: Vec<String> = String::from_utf8_lossy(&o.stdout)
         .split_whitespace()
@@ -437,17 +441,18 @@ fn slurm_array_jobs_merge_bit_for_bit_and_rerun_a_cancelled_task() {
     assert!(cancelled.success());
     wait_for_slurm(&[tasks, merge]);
     let first_wall = start.elapsed().as_secs_f64();
-    let log = std::fs::read_to_string(dir.join("j/slurm/merge.log")).expect("merge log");
+    let log = std::fs::read_to_string(job.join("slurm/merge.log")).expect("merge log");
     assert!(log.contains("merged 7 of 8 tasks"), "{log}");
     assert!(log.contains("missing tasks: 5"), "{log}");
-    let status = ok(&photon(&["job", "status", "j"], &dir));
+    let status = ok(&photon(&["job", "status", name], &dir));
+    // The last line, which holds the quoted folder name and so its newlines.
     let rerun = status
-        .lines()
-        .find_map(|l| l.trim().strip_prefix("Slurm:"))
+        .split("Slurm:")
+        .nth(1)
         .expect("a Slurm rerun line")
         .trim()
         .to_owned();
-    assert!(rerun.starts_with("sbatch --array=5 "), "{status}");
+    assert!(rerun.contains(" && sbatch --array=5 "), "{status}");
     let o = Command::new("sh")
         .args(["-c", &rerun.replacen("sbatch ", "sbatch --parsable ", 1)])
         .current_dir(&dir)
@@ -457,7 +462,7 @@ fn slurm_array_jobs_merge_bit_for_bit_and_rerun_a_cancelled_task() {
     assert!(o.status.success(), "{}", stderr(&o));
     wait_for_slurm(&[&rerun_id]);
     ok(&photon(
-        &["job", "merge", "j", "-o", "merged.exr", "--require-all"],
+        &["job", "merge", name, "-o", "merged.exr", "--require-all"],
         &dir,
     ));
     let mut single = vec!["render", "cornell", "-q", "-o", "single.exr"];
@@ -465,9 +470,19 @@ fn slurm_array_jobs_merge_bit_for_bit_and_rerun_a_cancelled_task() {
     ok(&photon(&single, &dir));
     let same = std::fs::read(dir.join("merged.exr")).expect("merged")
         == std::fs::read(dir.join("single.exr")).expect("single");
+    let pwned: Vec<_> = [dir.join("PWNED"), job.join("PWNED")]
+        .into_iter()
+        .filter(|p| p.exists())
+        .collect();
+    let home_pwned = std::env::var_os("HOME").map(|h| Path::new(&h).join("PWNED"));
     eprintln!(
-        "slurm: array job {tasks} (8 tasks, task 5 cancelled), merge job {merge}, rerun job {rerun_id}; first pass {first_wall:.1} s, total {:.1} s; merged == single: {same}",
+        "slurm: array job {tasks} (8 tasks, task 5 cancelled), merge job {merge}, rerun job {rerun_id}; first pass {first_wall:.1} s, total {:.1} s; merged == single: {same}; files the folder name tried to create: {pwned:?}",
         start.elapsed().as_secs_f64()
     );
     assert!(same, "the Slurm job's image differs from the single render");
+    assert!(pwned.is_empty(), "the folder name ran a command");
+    assert!(
+        !home_pwned.is_some_and(|p| p.exists()),
+        "the folder name ran a command"
+    );
 }

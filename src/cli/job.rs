@@ -4,6 +4,7 @@
 
 use super::render::{plan_job, render_task};
 use anyhow::{Context, Result, bail};
+use photon::job::lock::{Acquired, TaskLock};
 use photon::job::{self, Manifest, TaskState};
 use std::path::{Path, PathBuf};
 
@@ -56,6 +57,10 @@ pub struct RunArgs {
 #[derive(clap::Args)]
 pub struct StatusArgs {
     job: PathBuf,
+    /// Print only the failed and missing tasks' indices, one a line (for a pipe into a loop
+    /// or GNU parallel).
+    #[arg(long)]
+    missing: bool,
 }
 
 #[derive(clap::Args)]
@@ -65,7 +70,7 @@ pub struct MergeArgs {
     #[arg(short, long)]
     output: PathBuf,
     /// Exposure in stops, applied to PNG output only.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_exposure)]
     exposure: f32,
     /// Fail (exit 3) unless every task's part is present.
     #[arg(long)]
@@ -88,10 +93,10 @@ pub struct SubmitArgs {
     #[arg(long)]
     pub time: Option<String>,
     /// CPUs per task (Slurm --cpus-per-task, Kubernetes CPU request).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=super::MAX_THREADS as i64))]
     pub cpus: u32,
     /// Most tasks running at once (Slurm's array throttle `%N`, Kubernetes parallelism).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_running: Option<u32>,
     /// Write the sbatch scripts and print the commands, but do not submit.
     #[arg(long)]
@@ -105,6 +110,15 @@ pub struct SubmitArgs {
     /// Kubernetes: the PersistentVolumeClaim that holds the job folder.
     #[arg(long, default_value = "photon-jobs")]
     pub volume_claim: String,
+}
+
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    let max = super::render::MAX_EXPOSURE;
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|e| (-max..=max).contains(e))
+        .ok_or_else(|| format!("'{s}': expected a number of stops between -{max} and {max}"))
 }
 
 pub fn run(command: JobCommand) -> Result<()> {
@@ -186,8 +200,9 @@ fn create(a: &CreateArgs) -> Result<()> {
         bytes as f64 / 1e6
     );
     outln!(
-        "run the tasks:\n  {}",
-        local_command(job_dir, &(0..manifest.tasks.len()).collect::<Vec<_>>())
+        "run the tasks:\n  for i in $(seq 0 {}); do photon job run {} --task \"$i\"; done",
+        manifest.tasks.len() - 1,
+        sh_quote_path(job_dir)
     );
     Ok(())
 }
@@ -222,15 +237,28 @@ fn task_from_environment() -> Result<usize> {
     )
 }
 
+/// Whether an error may pass if the task is run again: a write failed.
+fn is_worth_a_retry(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        matches!(
+            c.downcast_ref::<photon::Error>(),
+            Some(photon::Error::Write { .. })
+        )
+    })
+}
+
+/// Leave `message` in the task's `I.failed` for `job status`.
+fn record_failure(failed: &Path, message: &str) {
+    let _ = photon::io::image::write_atomically(failed, |tmp| {
+        std::fs::write(tmp, message).map_err(|source| photon::Error::Write {
+            path: failed.to_owned(),
+            source,
+        })
+    });
+}
+
 fn run_task(a: &RunArgs) -> Result<()> {
     let manifest = Manifest::load(&a.job)?;
-    if manifest.photon_version != env!("CARGO_PKG_VERSION") {
-        bail!(
-            "the job was made by Photon {}; this is {}: run the same version on every machine",
-            manifest.photon_version,
-            env!("CARGO_PKG_VERSION")
-        );
-    }
     let task = match a.task {
         Some(t) => t,
         None => task_from_environment()?,
@@ -241,28 +269,46 @@ fn run_task(a: &RunArgs) -> Result<()> {
             manifest.tasks.len() - 1
         );
     };
+    // A copy of the job (rsync, git) may have dropped the empty parts/ folder.
+    let parts = a.job.join(job::PARTS_DIR);
+    if !parts.is_dir() {
+        std::fs::create_dir(&parts)
+            .with_context(|| format!("cannot create '{}'", parts.display()))?;
+    }
+    let failed = job::failure_path(&a.job, task);
+    if manifest.photon_version != env!("CARGO_PKG_VERSION") {
+        let message = format!(
+            "the job was made by Photon {}; this is {}: run the same version on every machine",
+            manifest.photon_version,
+            env!("CARGO_PKG_VERSION")
+        );
+        record_failure(&failed, &format!("{message}\n"));
+        bail!(message);
+    }
     if job::part_is_complete(&a.job, &manifest, task) {
         eprintln!("photon: task {task} is already done");
         return Ok(());
     }
-    let failed = job::failure_path(&a.job, task);
+    let lock = match TaskLock::acquire(&a.job, task)? {
+        Acquired::Held(lock) => lock,
+        Acquired::Busy(holder) => {
+            eprintln!(
+                "error: task {task} is being rendered by {holder} (it holds {}); run it again later",
+                job::lock::lock_path(&a.job, task).display()
+            );
+            std::process::exit(EXIT_RETRY);
+        }
+    };
+    if job::part_is_complete(&a.job, &manifest, task) {
+        eprintln!("photon: task {task} is already done");
+        return Ok(());
+    }
     let _ = std::fs::remove_file(&failed);
-    let outcome = render_one(a, &manifest, task, (start, end));
+    let outcome = render_one(a, &manifest, task, (start, end), &lock);
+    drop(lock);
     if let Err(e) = &outcome {
-        let retry = e.chain().any(|c| {
-            matches!(
-                c.downcast_ref::<photon::Error>(),
-                Some(photon::Error::Write { .. })
-            )
-        });
-        let message = format!("{e:#}\n");
-        let _ = photon::io::image::write_atomically(&failed, |tmp| {
-            std::fs::write(tmp, &message).map_err(|source| photon::Error::Write {
-                path: failed.clone(),
-                source,
-            })
-        });
-        if retry {
+        record_failure(&failed, &format!("{e:#}\n"));
+        if is_worth_a_retry(e) {
             eprintln!("error: task {task}: {e:#}");
             std::process::exit(EXIT_RETRY);
         }
@@ -270,7 +316,14 @@ fn run_task(a: &RunArgs) -> Result<()> {
     outcome.with_context(|| format!("task {task}"))
 }
 
-fn render_one(a: &RunArgs, manifest: &Manifest, task: usize, range: (u64, u64)) -> Result<()> {
+/// Render task `task` into this worker's own file, then label it and move it to `I.part`.
+fn render_one(
+    a: &RunArgs,
+    manifest: &Manifest,
+    task: usize,
+    range: (u64, u64),
+    lock: &TaskLock,
+) -> Result<()> {
     manifest.verify_files(&a.job)?;
     let scene = if photon::description::builtin::BUILTINS
         .iter()
@@ -283,13 +336,26 @@ fn render_one(a: &RunArgs, manifest: &Manifest, task: usize, range: (u64, u64)) 
     let mut scene_and_flags = vec![scene];
     scene_and_flags.extend(manifest.render_args.iter().cloned());
     let start = std::time::Instant::now();
-    render_task(
+    let rendered = job::lock::worker_part_path(&a.job, task, lock.holder());
+    let outcome = render_task(
         &scene_and_flags,
         manifest.unit,
         range,
-        job::part_path(&a.job, task),
+        rendered.clone(),
         a.threads,
-    )?;
+    )
+    .with_context(|| {
+        format!(
+            "the render_args of '{}'",
+            a.job.join(job::MANIFEST).display()
+        )
+    })
+    .and_then(|()| Ok(job::promote_part(&a.job, manifest, task, &rendered)?));
+    let _ = std::fs::remove_file(&rendered);
+    if !outcome? {
+        eprintln!("photon: task {task} was done meanwhile by another worker; its part is kept");
+        return Ok(());
+    }
     eprintln!(
         "photon: task {task} ({} {}..{}) done in {:.2} s",
         unit_name(manifest.unit),
@@ -300,18 +366,13 @@ fn render_one(a: &RunArgs, manifest: &Manifest, task: usize, range: (u64, u64)) 
     Ok(())
 }
 
-/// A shell command that runs `tasks` here, one after another.
-fn local_command(job_dir: &Path, tasks: &[usize]) -> String {
-    let list = tasks
-        .iter()
-        .map(ToString::to_string)
-        .collect::<Vec<_>>()
-        .join(" ");
-    format!(
-        "for i in {list}; do photon job run {} --task $i; done",
-        job_dir.display()
-    )
+/// `path` quoted for a POSIX shell.
+fn sh_quote_path(path: &Path) -> String {
+    super::job_submit::sh_quote(&path.to_string_lossy())
 }
+
+/// Most failed or running tasks `job status` lists one by one.
+const LISTED: usize = 10;
 
 fn status(a: &StatusArgs) -> Result<()> {
     let manifest = Manifest::load(&a.job)?;
@@ -325,70 +386,106 @@ fn status(a: &StatusArgs) -> Result<()> {
             .collect()
     };
     let done = pick(&|s| *s == TaskState::Done);
-    let failed = pick(&|s| matches!(s, TaskState::Failed(_)));
-    let missing = pick(&|s| *s == TaskState::Missing);
+    let running = pick(&|s| matches!(s, TaskState::Running(_)));
+    let rerun = pick(&|s| matches!(s, TaskState::Failed(_) | TaskState::Missing));
+    if a.missing {
+        for i in &rerun {
+            outln!("{i}");
+        }
+        return Ok(());
+    }
     let units: u64 = done
         .iter()
         .map(|&i| manifest.tasks[i][1] - manifest.tasks[i][0])
         .sum();
+    let failed = states
+        .iter()
+        .filter(|s| matches!(s, TaskState::Failed(_)))
+        .count();
     outln!(
-        "{} of {} tasks done ({units} of {} {}); {} failed, {} not run",
+        "{} of {} tasks done ({units} of {} {}); {failed} failed, {} running, {} not run",
         done.len(),
         states.len(),
         manifest.total,
         unit_name(manifest.unit),
-        failed.len(),
-        missing.len()
+        running.len(),
+        rerun.len() - failed
     );
-    for (i, s) in states.iter().enumerate() {
-        if let TaskState::Failed(m) = s {
-            outln!("task {i} failed: {}", m.lines().next().unwrap_or(""));
-        }
+    let notes = states.iter().enumerate().filter_map(|(i, s)| match s {
+        TaskState::Failed(m) => Some(format!(
+            "task {i} failed: {}",
+            m.lines().next().unwrap_or("")
+        )),
+        TaskState::Running(h) => Some(format!("task {i} is running on {h}")),
+        _ => None,
+    });
+    for note in notes.take(LISTED) {
+        outln!("{note}");
     }
-    let rerun: Vec<usize> = failed.iter().chain(&missing).copied().collect::<Vec<_>>();
+    if failed + running.len() > LISTED {
+        outln!("… and {} more", failed + running.len() - LISTED);
+    }
+    let job_dir = sh_quote_path(&a.job);
     if rerun.is_empty() {
-        outln!(
-            "all parts present: photon job merge {} -o image.exr",
-            a.job.display()
-        );
+        if running.is_empty() {
+            outln!("all parts present: photon job merge {job_dir} -o image.exr");
+        }
         return Ok(());
     }
-    let mut rerun = rerun;
-    rerun.sort_unstable();
-    let list = job::compact_list(&rerun);
+    let list = rerun_list(&rerun);
     outln!("rerun the missing tasks ({list}):");
-    outln!("  here:     {}", local_command(&a.job, &rerun));
     outln!(
-        "  parallel: parallel photon job run {} --task {{}} ::: {}",
-        a.job.display(),
-        rerun
-            .iter()
-            .map(ToString::to_string)
-            .collect::<Vec<_>>()
-            .join(" ")
+        "  here:     photon job status {job_dir} --missing | while read -r i; do photon job run {job_dir} --task \"$i\"; done"
     );
     outln!(
-        "  Slurm:    sbatch --array={list} {}",
-        a.job.join(super::job_submit::TASK_SCRIPT).display()
+        "  parallel: photon job status {job_dir} --missing | parallel -q photon job run {job_dir} --task {{}}"
+    );
+    outln!(
+        "  Slurm:    cd {job_dir} && sbatch --array={list} {}",
+        super::job_submit::TASK_SCRIPT
     );
     Ok(())
+}
+
+/// Longest task list printed as it is; a longer one is given as its span (the tasks in it
+/// that are done end at once).
+const MAX_LIST: usize = 200;
+
+/// `tasks` as a Slurm array list whose length does not grow with their number.
+fn rerun_list(tasks: &[usize]) -> String {
+    let list = job::compact_list(tasks);
+    match (tasks.first(), tasks.last()) {
+        (Some(first), Some(last)) if list.len() > MAX_LIST => format!("{first}-{last}"),
+        _ => list,
+    }
 }
 
 fn merge(a: &MergeArgs) -> Result<()> {
     photon::io::image::check_writable(&a.output)?;
     let manifest = Manifest::load(&a.job)?;
+    let job_id = manifest.job_id();
     let mut merger = job::Merger::default();
     let mut missing = Vec::new();
+    let mut foreign = Vec::new();
     let start = std::time::Instant::now();
-    for (i, &[start, end]) in manifest.tasks.iter().enumerate() {
-        // Each part is read once: a missing, damaged or short part is a missing task.
-        let path = job::part_path(&a.job, i);
-        match path.is_file().then(|| job::load_part(&path)) {
-            Some(Ok(part)) if part.range() == (start, end) => merger
+    for i in 0..manifest.tasks.len() {
+        // Each part is read once: a missing, damaged, short or foreign part is a missing task.
+        if !job::part_path(&a.job, i).is_file() {
+            missing.push(i);
+            continue;
+        }
+        match job::load_job_part(&a.job, &manifest, &job_id, i) {
+            Ok(part) => merger
                 .add(part)
                 .with_context(|| format!("merging task {i}"))?,
-            _ => missing.push(i),
+            Err(e) => {
+                foreign.push(format!("{e}"));
+                missing.push(i);
+            }
         }
+    }
+    for e in foreign.iter().take(LISTED) {
+        eprintln!("photon: {e}");
     }
     let image = merger
         .image()
@@ -407,8 +504,8 @@ fn merge(a: &MergeArgs) -> Result<()> {
     if !missing.is_empty() {
         eprintln!(
             "photon: missing tasks: {} (see photon job status {})",
-            job::compact_list(&missing),
-            a.job.display()
+            rerun_list(&missing),
+            sh_quote_path(&a.job)
         );
         if a.require_all {
             std::process::exit(3);

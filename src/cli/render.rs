@@ -19,7 +19,7 @@ use photon::render_job::{
     IntegratorKind, MAX_INDIRECT_SCALE, MAX_K, Phase, Progress, RenderJob, RenderOptions,
 };
 /// Largest `--exposure` magnitude in stops (2^±100 still fits an f32).
-const MAX_EXPOSURE: f32 = 100.0;
+pub(super) const MAX_EXPOSURE: f32 = 100.0;
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum IntegratorName {
@@ -598,10 +598,9 @@ pub struct JobPlan {
     pub files: Vec<PathBuf>,
 }
 
-/// Check that the render `scene_and_flags` describes can be split into tasks, load its scene
-/// (recording the files it reads) and say what the tasks count.
-pub fn plan_job(scene_and_flags: &[String]) -> Result<JobPlan> {
-    let a = parse_render(scene_and_flags)?;
+/// Refuse the flags a job sets itself or cannot carry: checked when the job is made and
+/// again by each worker, whose manifest may have been edited.
+fn refuse_per_run_flags(a: &RenderArgs) -> Result<()> {
     let per_run = [
         (
             a.output.is_some(),
@@ -642,6 +641,14 @@ pub fn plan_job(scene_and_flags: &[String]) -> Result<JobPlan> {
             "a job cannot take --env FILE: put the sky in the scene file ([[lights]] type = \"environment\") so that the job carries it"
         );
     }
+    Ok(())
+}
+
+/// Check that the render `scene_and_flags` describes can be split into tasks, load its scene
+/// (recording the files it reads) and say what the tasks count.
+pub fn plan_job(scene_and_flags: &[String]) -> Result<JobPlan> {
+    let a = parse_render(scene_and_flags)?;
+    refuse_per_run_flags(&a)?;
     let (loaded, files) = photon::io::input::recording(|| super::scene_with(&a.scene, &a.env));
     let (scene, spec, _) = loaded?;
     let mut options = a.options();
@@ -683,6 +690,7 @@ pub fn render_task(
     threads: Option<usize>,
 ) -> Result<()> {
     let mut a = parse_render(scene_and_flags)?;
+    refuse_per_run_flags(&a)?;
     match unit {
         photon::job::Unit::Passes => a.pass_range = Some(range),
         photon::job::Unit::Samples => a.sample_range = Some(range),

@@ -139,37 +139,38 @@ pub fn load(path: &Path) -> Result<ProgressiveState> {
 /// Load a checkpoint and the run information saved with it.
 pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
     let bytes = crate::io::input::read_file(path)?;
+    decode_with(&bytes).map_err(|m| bad(path, m))
+}
+
+/// [`load_with`] on bytes in memory; the error is the reason, without the path.
+pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunInfo), String> {
     if bytes.len() < 24 || &bytes[..8] != MAGIC {
-        return Err(bad(path, "not a Photon checkpoint (bad magic number)"));
+        return Err("not a Photon checkpoint (bad magic number)".into());
     }
     let u32_at =
         |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
     let version = u32_at(8);
     if version != CHECKPOINT_VERSION {
-        return Err(bad(
-            path,
-            format!("checkpoint version {version}; this Photon reads {CHECKPOINT_VERSION}"),
+        return Err(format!(
+            "checkpoint version {version}; this Photon reads {CHECKPOINT_VERSION}"
         ));
     }
     let (body, tail) = bytes.split_at(bytes.len() - 8);
     let mut h = Fnv1a::default();
     h.write(body);
     if h.finish() != u64::from_le_bytes(tail.try_into().expect("8 bytes")) {
-        return Err(bad(
-            path,
-            "checksum mismatch: the checkpoint is truncated or corrupted",
-        ));
+        return Err("checksum mismatch: the checkpoint is truncated or corrupted".into());
     }
     let header_len = u32_at(12) as usize;
     if header_len > MAX_HEADER || 16 + header_len > body.len() {
-        return Err(bad(path, "truncated header"));
+        return Err("truncated header".into());
     }
     let hd: Header = serde_json::from_slice(&body[16..16 + header_len])
-        .map_err(|e| bad(path, format!("unreadable header: {e}")))?;
+        .map_err(|e| format!("unreadable header: {e}"))?;
     let method = match hd.method.as_str() {
         "sppm" => Method::Sppm,
         "ppm" => Method::Ppm,
-        m => return Err(bad(path, format!("unknown method '{m}'"))),
+        m => return Err(format!("unknown method '{m}'")),
     };
     let pixels = hd.width as usize * hd.height as usize;
     let per_pixel = match method {
@@ -178,18 +179,15 @@ pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
     };
     let data = &body[16 + header_len..];
     if Some(data.len()) != pixels.checked_mul(per_pixel) {
-        return Err(bad(
-            path,
-            format!(
-                "{} bytes of pixel data for {}×{} pixels",
-                data.len(),
-                hd.width,
-                hd.height
-            ),
+        return Err(format!(
+            "{} bytes of pixel data for {}×{} pixels",
+            data.len(),
+            hd.width,
+            hd.height
         ));
     }
     let scene_hash =
-        u64::from_str_radix(&hd.scene_hash, 16).map_err(|_| bad(path, "bad scene hash"))?;
+        u64::from_str_radix(&hd.scene_hash, 16).map_err(|_| "bad scene hash".to_string())?;
     let config = ProgressiveConfig {
         method,
         width: hd.width,
@@ -201,7 +199,7 @@ pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
         max_depth: hd.max_depth,
         light_samples: hd.light_samples,
     };
-    config.validate().map_err(|e| bad(path, e.to_string()))?;
+    config.validate().map_err(|e| e.to_string())?;
     let f64_at = |at: usize| f64::from_le_bytes(data[at..at + 8].try_into().expect("8 bytes"));
     let info = RunInfo {
         output: hd.output.map(std::path::PathBuf::from),

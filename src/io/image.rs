@@ -67,20 +67,60 @@ pub fn check_writable_path(path: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The temporary sibling a file is written to before being renamed into place.
+/// The temporary sibling a file is written to before being renamed into place:
+/// `.NAME.HOST.PID.partial`, unique among the hosts that share a folder.
 pub fn temp_path(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
+    path.with_file_name(format!(
+        ".{name}.{}.{}.partial",
+        host_name(),
+        std::process::id()
+    ))
 }
 
-/// Remove `.NAME.PID.partial` siblings of `path` left by processes that no longer run (a
-/// SIGKILL leaves them; they reached 67 MB).
-fn remove_stale_partials(path: &Path) {
-    if !cfg!(target_os = "linux") {
-        return;
+/// This machine's name as file names and job locks record it: its host name with anything
+/// but ASCII letters, digits, `-` and `.` replaced by `_` ("unknown" where there is none).
+pub fn host_name() -> String {
+    let raw = fs::read_to_string("/proc/sys/kernel/hostname")
+        .ok()
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .or_else(|| std::env::var("COMPUTERNAME").ok())
+        .unwrap_or_default();
+    let name: String = raw
+        .trim()
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if name.is_empty() {
+        "unknown".into()
+    } else {
+        name
     }
+}
+
+/// Whether process `pid` of this host runs, where that can be known (Linux: `/proc/PID`);
+/// elsewhere every process is taken to run.
+pub fn process_is_running(pid: u32) -> bool {
+    !cfg!(target_os = "linux") || Path::new(&format!("/proc/{pid}")).exists()
+}
+
+/// A temporary file whose writer cannot be known to be gone is removed only this long after
+/// its last change: no write of a live process pauses for a day.
+const ABANDONED_AFTER: std::time::Duration = std::time::Duration::from_secs(24 * 3600);
+
+/// Remove `.NAME.HOST.PID.partial` siblings of `path` that their writers left (a SIGKILL
+/// leaves them; they reached 67 MB): this host's whose process has ended, and any, of any
+/// host or of the older `.NAME.PID.partial` form, unchanged for [`ABANDONED_AFTER`]. Another
+/// host's process cannot be seen from here, so its recent files are left alone.
+fn remove_stale_partials(path: &Path) {
     let Some(name) = path.file_name().map(|n| n.to_string_lossy().into_owned()) else {
         return;
     };
@@ -92,17 +132,27 @@ fn remove_stale_partials(path: &Path) {
     let Ok(entries) = fs::read_dir(dir) else {
         return;
     };
+    let this_host = host_name();
     for entry in entries.flatten() {
         let file = entry.file_name().to_string_lossy().into_owned();
-        let Some(pid) = file
+        let Some(writer) = file
             .strip_prefix(&prefix)
             .and_then(|rest| rest.strip_suffix(".partial"))
-            .and_then(|pid| pid.parse::<u32>().ok())
         else {
             continue;
         };
-        // Another live writer's file is left alone (Linux: /proc/PID exists while it runs).
-        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+        let (host, pid) = writer.rsplit_once('.').unwrap_or(("", writer));
+        let Ok(pid) = pid.parse::<u32>() else {
+            continue;
+        };
+        let ended_here = host == this_host && pid != std::process::id() && !process_is_running(pid);
+        let abandoned = entry
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age > ABANDONED_AFTER);
+        if ended_here || abandoned {
             let _ = fs::remove_file(entry.path());
         }
     }

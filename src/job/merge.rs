@@ -18,7 +18,7 @@ impl Part {
     /// The range `[start, end)` of passes or samples it holds.
     pub fn range(&self) -> (u64, u64) {
         match self {
-            Part::Passes(s) => (s.first_pass, s.first_pass + s.passes),
+            Part::Passes(s) => (s.first_pass, s.first_pass.saturating_add(s.passes)),
             Part::Samples(s, o) => (
                 u64::from(o.first_sample),
                 u64::from(o.first_sample) + u64::from(s.samples),
@@ -27,24 +27,41 @@ impl Part {
     }
 }
 
-/// Read a `.part` file of either kind.
+impl Part {
+    /// The content hash of the scene it was rendered from, hexadecimal.
+    pub fn scene_hash(&self) -> String {
+        match self {
+            Part::Passes(s) => format!("{:016x}", s.scene_hash),
+            Part::Samples(_, o) => o.scene_hash.clone(),
+        }
+    }
+}
+
+/// Read a `.part` file of either kind, bare or as a job wrote it (the job's label is not
+/// checked here: see [`super::load_job_part`]).
 pub fn load_part(path: &Path) -> Result<Part> {
     let bytes = crate::io::input::read_file(path)?;
-    if sample_part::is_sample_part(&bytes) {
-        let (sums, origin) =
-            sample_part::decode(&bytes).map_err(|message| Error::BadCheckpoint {
-                path: path.to_owned(),
-                message,
-            })?;
+    let bad = |message| Error::BadCheckpoint {
+        path: path.to_owned(),
+        message,
+    };
+    if super::part_file::is_job_part(&bytes) {
+        return super::part_file::decode(&bytes)
+            .map(|(_, part)| part)
+            .map_err(bad);
+    }
+    decode_part(&bytes).map_err(bad)
+}
+
+/// A bare part in memory: a sample part, or a PPM checkpoint of a pass range.
+pub fn decode_part(bytes: &[u8]) -> std::result::Result<Part, String> {
+    if sample_part::is_sample_part(bytes) {
+        let (sums, origin) = sample_part::decode(bytes)?;
         return Ok(Part::Samples(sums, origin));
     }
-    drop(bytes);
-    let state = crate::io::checkpoint::load(path)?;
+    let (state, _) = crate::io::checkpoint::decode_with(bytes)?;
     if state.config.method != Method::Ppm {
-        return Err(Error::BadCheckpoint {
-            path: path.to_owned(),
-            message: "an sppm checkpoint is not a part: sppm passes depend on each other".into(),
-        });
+        return Err("an sppm checkpoint is not a part: sppm passes depend on each other".into());
     }
     Ok(Part::Passes(state))
 }
