@@ -267,7 +267,9 @@ fn the_library_refuses_zero_passes_and_empty_ranges() {
 /// the next pass gives what it would have.
 #[test]
 fn an_abandoned_pass_leaves_the_completed_ones() {
-    let scene = photon::description::load_scene("cornell").expect("cornell").0;
+    let scene = photon::description::load_scene("cornell")
+        .expect("cornell")
+        .0;
     for method in [IntegratorKind::Sppm, IntegratorKind::Ppm] {
         let options = RenderOptions {
             integrator: Some(method),
