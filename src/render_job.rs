@@ -277,6 +277,16 @@ impl<'s> RenderJob<'s> {
         {
             return bad(format!("radius {r} must be a positive length"));
         }
+        if options.passes == Some(0) {
+            return bad("passes 0: a render needs at least one pass".into());
+        }
+        if let Some((a, b)) = options.pass_range
+            && a >= b
+        {
+            return bad(format!(
+                "pass range {a}..{b} is empty: the first pass must come before the end"
+            ));
+        }
         if options.pass_range.is_some() && integrator != IntegratorKind::Ppm {
             return bad(
                 "a pass range needs the ppm integrator (sppm passes depend on each other)".into(),
@@ -565,7 +575,8 @@ impl<'s> RenderJob<'s> {
         })
     }
 
-    /// Progressive passes until the budget (passes or time) is spent or `cancel` is set.
+    /// Progressive passes until the budget (passes or time; a time runs at least one pass) is
+    /// spent or `cancel` is set, which abandons the pass in flight.
     fn render_passes(
         &self,
         progress: &(dyn Fn(Progress) + Sync),
@@ -576,17 +587,25 @@ impl<'s> RenderJob<'s> {
         let start = Instant::now();
         let mut photons = 0;
         let mut cancelled = false;
-        while target.is_none_or(|t| state.next_pass() < t)
-            && !self
-                .options
-                .time
-                .is_some_and(|s| start.elapsed().as_secs_f64() >= s)
-        {
+        let time_spent = |passes: u64| {
+            passes > 0
+                && self
+                    .options
+                    .time
+                    .is_some_and(|s| start.elapsed().as_secs_f64() >= s)
+        };
+        while target.is_none_or(|t| state.next_pass() < t) && !time_spent(state.passes) {
             if cancel.load(Ordering::Relaxed) {
                 cancelled = true;
                 break;
             }
-            photons += state.run_pass(self.scene)?.photons_emitted;
+            match state.run_pass_cancellable(self.scene, cancel) {
+                Err(Error::Cancelled) => {
+                    cancelled = true;
+                    break;
+                }
+                stats => photons += stats?.photons_emitted,
+            }
             progress(Progress {
                 phase: Phase::Passes,
                 done: state.passes,

@@ -66,7 +66,9 @@ class Progressive(Iterator[Image]):
 
 def progressive(scene: Scene, *, threads: int | None = None, **options: object) -> Progressive:
     """An sppm (default) or ppm render as an iterator of images, one after each pass; the
-    options are `render`'s (give `passes` or `time`)."""
+    options are `render`'s (give `passes` or `time`, counted from the first pass, which
+    always runs). A KeyboardInterrupt abandons the pass in flight; the completed passes
+    stay, and iterating again continues from them."""
 
 class PhotonArrays(TypedDict):
     positions: npt.NDArray[np.float32]
@@ -87,9 +89,9 @@ class PhotonMaps:
 def trace_photons(
     scene: Scene,
     *,
-    photons: int = 250000,
+    photons: int | None = 250000,
     caustic_photons: int | None = None,
-    seed: int = 0,
+    seed: int | None = 0,
     per_channel: bool = False,
     threads: int | None = None,
 ) -> PhotonMaps: ...

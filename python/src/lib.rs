@@ -3,8 +3,8 @@
 //! `photon render` give the same image for the same settings, bit for bit.
 //!
 //! Rendering runs on a worker thread with the GIL released; the calling thread wakes every
-//! 50 ms to let Python handle signals, and a KeyboardInterrupt sets the render's cancel flag,
-//! waits for the worker to stop, and is raised.
+//! 50 ms to let Python handle signals, and a KeyboardInterrupt sets the render's cancel flag
+//! (checked between tiles and rows), waits for the worker to stop, and is raised.
 
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use photon::description::{Loaded, RenderSpec};
@@ -68,18 +68,42 @@ fn run_cancellable<T: Send>(
     })
 }
 
-fn pool(threads: Option<usize>) -> PyResult<rayon::ThreadPool> {
-    if threads.is_some_and(|t| t > 256) {
-        return Err(PhotonError::new_err("threads: at most 256"));
+/// A whole number argument `name` in `0..=max`, or a `PhotonError` that names it (a
+/// negative or huge Python int is not an `OverflowError`).
+fn whole<T: TryFrom<i64>>(name: &str, v: &Bound<'_, PyAny>, max: i64) -> PyResult<T> {
+    let bad = || {
+        PhotonError::new_err(format!(
+            "{name}={v}: expected a whole number from 0 to {max}"
+        ))
+    };
+    if v.cast::<pyo3::types::PyBool>().is_ok() {
+        return Err(bad());
     }
+    let n = v.extract::<i64>().map_err(|_| bad())?;
+    if !(0..=max).contains(&n) {
+        return Err(bad());
+    }
+    T::try_from(n).map_err(|_| bad())
+}
+
+/// The `threads` argument: `None` or 0 is one per core.
+fn threads_arg(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    threads
+        .filter(|t| !t.is_none())
+        .map(|t| whole("threads", t, 256))
+        .transpose()
+}
+
+fn pool(threads: Option<usize>) -> PyResult<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()
         .map_err(|e| PyRuntimeError::new_err(format!("cannot start worker threads: {e}")))
 }
 
-/// A Python value as JSON, for the options' serde names and types.
-fn to_json(v: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
+/// A Python value as JSON, for the options' serde names and types. NaN and infinities are
+/// refused (JSON has none: they would read as "not given").
+fn to_json(name: &str, v: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
     use serde_json::Value;
     if v.is_none() {
         Ok(Value::Null)
@@ -88,17 +112,22 @@ fn to_json(v: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
     } else if let Ok(i) = v.extract::<i64>() {
         Ok(Value::from(i))
     } else if let Ok(f) = v.extract::<f64>() {
+        if !f.is_finite() {
+            return Err(PhotonError::new_err(format!(
+                "{name}={f}: must be a finite number"
+            )));
+        }
         Ok(Value::from(f))
     } else if let Ok(s) = v.extract::<String>() {
         Ok(Value::String(s))
     } else if let Ok(t) = v.cast::<PyTuple>() {
         t.iter()
-            .map(|x| to_json(&x))
+            .map(|x| to_json(name, &x))
             .collect::<PyResult<_>>()
             .map(Value::Array)
     } else if let Ok(l) = v.cast::<PyList>() {
         l.iter()
-            .map(|x| to_json(&x))
+            .map(|x| to_json(name, &x))
             .collect::<PyResult<_>>()
             .map(Value::Array)
     } else {
@@ -114,7 +143,9 @@ fn options(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<RenderOptions> {
     let mut map = serde_json::Map::new();
     if let Some(kw) = kwargs {
         for (k, v) in kw.iter() {
-            map.insert(k.extract::<String>()?, to_json(&v)?);
+            let k = k.extract::<String>()?;
+            let value = to_json(&k, &v)?;
+            map.insert(k, value);
         }
     }
     serde_json::from_value(serde_json::Value::Object(map))
@@ -199,11 +230,11 @@ fn load_scene(py: Python<'_>, name_or_path: PathBuf) -> PyResult<Scene> {
 fn render<'py>(
     py: Python<'py>,
     scene: &Scene,
-    threads: Option<usize>,
+    threads: Option<&Bound<'py, PyAny>>,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
     let options = options(kwargs)?;
-    let pool = pool(threads)?;
+    let pool = pool(threads_arg(threads)?)?;
     let inner = scene.inner.clone();
     let spec = scene.spec.clone();
     let result = run_cancellable(py, move |cancel| {
@@ -225,12 +256,17 @@ fn render<'py>(
     Ok((image_array(py, &result.image)?, aovs))
 }
 
-/// A progressive render (sppm or ppm) as an iterator of images, one after each pass.
+/// A progressive render (sppm or ppm) as an iterator of images, one after each pass. A
+/// KeyboardInterrupt abandons the pass in flight; the completed passes stay, and iterating
+/// again continues from them.
 #[pyclass(module = "photon")]
 struct Progressive {
     scene: Arc<photon::scene::Scene>,
-    state: Option<ProgressiveState>,
+    state: ProgressiveState,
     target: Option<u64>,
+    /// The time budget in seconds, from the first pass (which always runs).
+    time: Option<f64>,
+    started: Option<std::time::Instant>,
     pool: Arc<rayon::ThreadPool>,
 }
 
@@ -241,26 +277,26 @@ impl Progressive {
     }
 
     fn __next__<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        let Some(mut state) = self.state.take() else {
-            return Ok(None);
-        };
-        if self.target.is_some_and(|t| state.next_pass() >= t) {
+        let state = &mut self.state;
+        let time_spent = self
+            .time
+            .zip(self.started)
+            .is_some_and(|(t, s)| state.passes > 0 && s.elapsed().as_secs_f64() >= t);
+        if self.target.is_some_and(|t| state.next_pass() >= t) || time_spent {
             return Ok(None);
         }
+        self.started.get_or_insert_with(std::time::Instant::now);
         let (scene, pool) = (self.scene.clone(), self.pool.clone());
-        let state = run_cancellable(py, move |_| {
-            pool.install(|| state.run_pass(&scene))?;
-            Ok(state)
+        run_cancellable(py, |cancel| {
+            pool.install(|| state.run_pass_cancellable(&scene, cancel))
         })?;
-        let image = image_array(py, &state.image())?;
-        self.state = Some(state);
-        Ok(Some(image))
+        image_array(py, &state.image()).map(Some)
     }
 
     /// Passes done so far.
     #[getter]
     fn passes(&self) -> u64 {
-        self.state.as_ref().map_or(0, |s| s.passes)
+        self.state.passes
     }
 }
 
@@ -270,15 +306,16 @@ impl Progressive {
 fn progressive(
     py: Python<'_>,
     scene: &Scene,
-    threads: Option<usize>,
+    threads: Option<&Bound<'_, PyAny>>,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Progressive> {
+    let threads = threads_arg(threads)?;
     let mut options = options(kwargs)?;
     if options.integrator.is_none() {
         options.integrator = Some(photon::render_job::IntegratorKind::Sppm);
     }
     let (inner, spec) = (scene.inner.clone(), scene.spec.clone());
-    let (state, target) = run_cancellable(py, move |_| {
+    let (state, target, time) = run_cancellable(py, move |_| {
         let job = RenderJob::new(&inner, &spec, options)?;
         if !job.integrator().is_progressive() {
             return Err(photon::Error::InvalidSetting(format!(
@@ -286,12 +323,18 @@ fn progressive(
                 job.integrator().name()
             )));
         }
-        Ok((job.progressive_state()?, job.target_passes()))
+        Ok((
+            job.progressive_state()?,
+            job.target_passes(),
+            job.options().time,
+        ))
     })?;
     Ok(Progressive {
         scene: scene.inner.clone(),
-        state: Some(state),
+        state,
         target,
+        time,
+        started: None,
         pool: Arc::new(pool(threads)?),
     })
 }
@@ -374,16 +417,32 @@ impl PhotonMaps {
 /// Trace photon maps for `scene` as the photon integrator does: `photons` for the global map,
 /// `caustic_photons` (at least as many) for the caustic map.
 #[pyfunction]
-#[pyo3(signature = (scene, *, photons = 250_000, caustic_photons = None, seed = 0, per_channel = false, threads = None))]
+#[pyo3(signature = (scene, *, photons = None, caustic_photons = None, seed = None, per_channel = false, threads = None))]
 fn trace_photons(
     py: Python<'_>,
     scene: &Scene,
-    photons: u64,
-    caustic_photons: Option<u64>,
-    seed: u64,
+    photons: Option<&Bound<'_, PyAny>>,
+    caustic_photons: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
     per_channel: bool,
-    threads: Option<usize>,
+    threads: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PhotonMaps> {
+    let given = |v: Option<&Bound<'_, PyAny>>, name: &str| -> PyResult<Option<u64>> {
+        v.filter(|v| !v.is_none())
+            .map(|v| whole(name, v, i64::MAX))
+            .transpose()
+    };
+    let photons = given(photons, "photons")?.unwrap_or(250_000);
+    let caustic_photons = given(caustic_photons, "caustic_photons")?;
+    let seed = match seed.filter(|s| !s.is_none()) {
+        Some(s) => s.extract::<u64>().map_err(|_| {
+            PhotonError::new_err(format!(
+                "seed={s}: expected a whole number from 0 to 2**64 - 1"
+            ))
+        })?,
+        None => 0,
+    };
+    let threads = threads_arg(threads)?;
     let config = PhotonConfig {
         photons: caustic_photons.unwrap_or(photons).max(photons),
         global_photons: Some(photons),

@@ -208,3 +208,68 @@ def test_an_area_light_emits_what_an_emissive_surface_of_its_radiance_does(tmp_p
     print(table)
     assert abs(mean_ratio - 1.0) < 0.03, table
     assert rel_mse < 0.05, table
+
+
+# A small scene rendered by the engine in a process of its own (a crash must fail the test,
+# not end the test run): argv = add-on folder, file format, width, output, scene name.
+ENGINE_RUN = """
+import os, sys
+import bpy
+sys.path.insert(0, sys.argv[1])
+import photon_blender
+file_format, width, out, name = sys.argv[2], int(sys.argv[3]), sys.argv[4], sys.argv[5]
+bpy.ops.wm.read_factory_settings(use_empty=True)
+scene = bpy.context.scene
+scene.name = name
+scene.render.resolution_x, scene.render.resolution_y = width, 8
+scene.render.resolution_percentage = 100
+bpy.ops.mesh.primitive_plane_add(size=2)
+bpy.ops.object.light_add(type="POINT", location=(0, 0, 2))
+bpy.ops.object.camera_add(location=(0, 0, 3))
+scene.camera = bpy.context.active_object
+photon_blender.register()
+scene.render.engine = "PHOTON"
+scene.photon.integrator, scene.photon.passes, scene.photon.photons_per_pass = "sppm", 2, 1000
+scene.render.image_settings.file_format = file_format
+scene.render.filepath = out
+try:
+    print("RESULT", bpy.ops.render.render(write_still=True), flush=True)
+except RuntimeError as e:
+    print("RAISED", e, flush=True)
+# bpy's own teardown can hang at exit; the render is over.
+os._exit(0)
+"""
+
+
+def engine_run(tmp_path, file_format, width, name="Scene"):
+    script = tmp_path / "engine_run.py"
+    script.write_text(ENGINE_RUN)
+    return subprocess.run(
+        [sys.executable, str(script), str(ROOT / "python" / "blender"), file_format, str(width),
+         str(tmp_path / "out"), name],
+        capture_output=True, text=True, timeout=600,
+    )
+
+
+@pytest.mark.parametrize("file_format", ["OPEN_EXR", "PNG"])
+def test_a_photon_error_is_reported_not_a_crash(tmp_path, file_format):
+    # 40000 pixels wide: more than Photon renders, so it raises PhotonError.
+    out = engine_run(tmp_path, file_format, 40000)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert "RAISED" in out.stdout, out.stdout + out.stderr[-3000:]
+    assert "Photon:" in out.stdout and "32768" in out.stdout, out.stdout
+
+
+def test_the_scene_name_is_escaped_in_the_toml(tmp_path):
+    import tomllib
+
+    name = 'a "b" \\ c\nname = "x"\t\u2603'
+    out = engine_run(tmp_path, "PNG", 16, name)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert "RESULT {'FINISHED'}" in out.stdout, out.stdout + out.stderr[-3000:]
+    scene = cornell_box()
+    scene.name = name
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    path, _ = photon_blender.export_scene(depsgraph, str(tmp_path))
+    with open(path, "rb") as f:
+        assert tomllib.load(f)["name"] == scene.name

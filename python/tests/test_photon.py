@@ -217,3 +217,84 @@ def test_scene_to_toml_round_trips(tmp_path):
     b, _ = photon.render(again, integrator="path", spp=2, width=16, height=16)
     assert np.array_equal(a, b)
     assert "cornell" in repr(scene)
+
+
+def test_keyboard_interrupt_keeps_the_completed_passes():
+    import _thread
+    import signal
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        scene = photon.load_scene("cornell")
+        # Passes of seconds each; the interrupt lands in the second one.
+        it = photon.progressive(
+            scene, integrator="sppm", passes=4, width=16, height=16, photons_per_pass=4_000_000
+        )
+        first = next(it)
+        assert it.passes == 1
+        timer = threading.Timer(0.3, _thread.interrupt_main)
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            next(it)
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    # The pass in flight was abandoned; the completed one is kept, and iterating continues.
+    assert it.passes == 1
+    assert first.shape == (16, 16, 3)
+    second = next(it)
+    assert it.passes == 2
+    assert second.shape == (16, 16, 3)
+
+
+@pytest.mark.parametrize(
+    "option",
+    ["spp", "width", "height", "radius", "time", "alpha", "indirect_scale", "absorption", "k"],
+)
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), float("-inf")])
+def test_non_finite_options_are_refused_by_name(option, value):
+    scene = photon.load_scene("cornell")
+    with pytest.raises(photon.PhotonError, match=option):
+        options = {"integrator": "path", "spp": 1, "width": 4, "height": 4}
+        options[option] = value
+        photon.render(scene, **options)
+
+
+@pytest.mark.parametrize("threads", [-1, 2**70, 1.5, 257, True])
+def test_bad_thread_counts_are_photon_errors(threads):
+    scene = photon.load_scene("cornell")
+    with pytest.raises(photon.PhotonError, match="threads"):
+        photon.render(scene, integrator="path", spp=1, width=4, height=4, threads=threads)
+    with pytest.raises(photon.PhotonError, match="threads"):
+        photon.progressive(scene, passes=1, width=4, height=4, threads=threads)
+    with pytest.raises(photon.PhotonError, match="threads"):
+        photon.trace_photons(scene, photons=1000, threads=threads)
+    with pytest.raises(photon.PhotonError, match="photons"):
+        photon.trace_photons(scene, photons=-1)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"integrator": "sppm", "passes": 0},
+        {"integrator": "ppm", "passes": 0},
+        {"integrator": "ppm", "pass_range": (10, 5)},
+        {"integrator": "ppm", "pass_range": (5, 5)},
+    ],
+)
+def test_zero_passes_are_refused(options):
+    scene = photon.load_scene("cornell")
+    with pytest.raises(photon.PhotonError, match="pass"):
+        photon.render(scene, width=4, height=4, **options)
+    with pytest.raises(photon.PhotonError, match="pass"):
+        photon.progressive(scene, width=4, height=4, **options)
+
+
+def test_a_time_budget_shorter_than_a_pass_renders_one():
+    scene = photon.load_scene("cornell")
+    options = dict(integrator="sppm", time=1e-9, width=8, height=8, photons_per_pass=1000)
+    image, _ = photon.render(scene, **options)
+    assert image.max() > 0.0
+    it = photon.progressive(scene, **options)
+    assert len(list(it)) == 1
+    assert it.passes == 1

@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use photon::io::checkpoint::{self, RunInfo};
+use photon::io::checkpoint::{self, EnvSettings, RunInfo};
 use photon::io::image::write_image;
 use photon::progressive::ProgressiveState;
 use photon::scene::Scene;
@@ -28,6 +28,34 @@ pub struct Outputs {
     pub quiet: bool,
     /// A partial render (`--pass-range`): the state file is the output, no image.
     pub partial: bool,
+    /// The environment flags, which the checkpoint keeps for `--resume`.
+    pub env: EnvSettings,
+}
+
+/// The environment flags as a checkpoint keeps them: a sky file's path made absolute (so a
+/// resume from another folder finds it), a colour as given.
+pub fn env_settings(env: &super::EnvironmentArgs) -> EnvSettings {
+    let sky = env.env.as_ref().map(|v| {
+        let colour = v.split(',').all(|p| p.trim().parse::<f32>().is_ok());
+        if colour {
+            v.clone()
+        } else {
+            std::path::absolute(v).map_or_else(|_| v.clone(), |p| p.to_string_lossy().into_owned())
+        }
+    });
+    EnvSettings {
+        sky,
+        rotate_deg: env.env_rotate,
+        intensity: env.env_intensity,
+    }
+}
+
+fn env_args(env: &EnvSettings) -> super::EnvironmentArgs {
+    super::EnvironmentArgs {
+        env: env.sky.clone(),
+        env_rotate: env.rotate_deg,
+        env_intensity: env.intensity,
+    }
 }
 
 /// Snapshots at least this often (besides passes 1, 2, 4, 8, …), and checkpoints too.
@@ -49,22 +77,33 @@ fn snapshot_path(output: &Path, pass: u64) -> PathBuf {
     output.with_file_name(format!("{stem}.pass{pass:05}.{ext}"))
 }
 
-fn interrupt_flag() -> Arc<AtomicBool> {
-    let flag = Arc::new(AtomicBool::new(false));
-    let f = flag.clone();
-    // Ctrl-C and `kill` (SIGTERM) finish the current pass, then save and stop. A second one
-    // stops at once: the checkpoint written last (atomically) is kept as it was.
+/// What Ctrl-C and `kill` (SIGINT, SIGTERM) asked for.
+struct Interrupts {
+    /// The first: finish the pass in flight, then save and stop.
+    stop: Arc<AtomicBool>,
+    /// Any later one: abandon the pass in flight, then save the completed passes and stop.
+    /// (`timeout` and a terminal signal the process group too, so two often arrive at once.)
+    abandon: Arc<AtomicBool>,
+}
+
+fn interrupts() -> Interrupts {
+    let flags = Interrupts {
+        stop: Arc::new(AtomicBool::new(false)),
+        abandon: Arc::new(AtomicBool::new(false)),
+    };
+    let (stop, abandon) = (flags.stop.clone(), flags.abandon.clone());
     let _ = ctrlc::set_handler(move || {
-        if f.swap(true, Ordering::SeqCst) {
-            eprintln!("photon: interrupted again: stopping now; the last checkpoint is kept");
-            std::process::exit(130);
+        if stop.swap(true, Ordering::SeqCst) && !abandon.swap(true, Ordering::SeqCst) {
+            eprintln!(
+                "photon: interrupted again: abandoning the pass in flight; saving the completed ones"
+            );
         }
     });
-    flag
+    flags
 }
 
 /// Run passes until the budget is spent (or an interrupt), writing snapshots, checkpoints and
-/// the final image.
+/// the final image. A time budget still runs at least one pass.
 pub fn run(
     scene: &Scene,
     mut state: ProgressiveState,
@@ -76,56 +115,48 @@ pub fn run(
         bail!("give --passes or --time for a progressive render");
     }
     let target = budget.passes;
-    let stop = interrupt_flag();
-    let bar = if out.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(target.unwrap_or(0))
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} pass {pos}/{len} [{bar:30}] {msg}  {elapsed_precise} elapsed, ETA {eta}",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
+    let signals = interrupts();
+    let bar = progress_bar(out.quiet, target);
     let start = Instant::now();
     let (mut last_snapshot, mut last_checkpoint) = (start, start);
-    let mut photons = 0u64;
-    let mut rays = 0u64;
-    let mut split = photon::progressive::PassSeconds::default();
+    let mut totals = Totals::default();
     let info = RunInfo {
         output: Some(std::path::absolute(&out.image).unwrap_or_else(|_| out.image.clone())),
         target_passes: target,
         exposure: Some(out.exposure),
+        env: out.env.clone(),
     };
+    let first = state.next_pass();
     let done = |state: &ProgressiveState| {
         target.is_some_and(|t| state.next_pass() >= t)
-            || budget
-                .seconds
-                .is_some_and(|s| start.elapsed().as_secs_f64() >= s)
+            || (state.next_pass() > first
+                && budget
+                    .seconds
+                    .is_some_and(|s| start.elapsed().as_secs_f64() >= s))
     };
     let mut interrupted = false;
     // The first checkpoint comes after the first pass (then every CHECKPOINT_EVERY): a run
     // killed in its first 30 s left none.
     let mut checkpointed = false;
     while !done(&state) {
-        if stop.load(Ordering::SeqCst) {
+        if signals.stop.load(Ordering::SeqCst) {
             interrupted = true;
             break;
         }
-        let stats = pool.install(|| state.run_pass(scene))?;
-        photons += stats.photons_emitted;
-        rays += stats.rays.total();
-        split.camera += stats.seconds.camera;
-        split.photons += stats.seconds.photons;
-        split.gather += stats.seconds.gather;
+        let stats = match pool.install(|| state.run_pass_cancellable(scene, &signals.abandon)) {
+            Err(photon::Error::Cancelled) => {
+                interrupted = true;
+                break;
+            }
+            r => r?,
+        };
+        totals.add(&stats);
         let passes = state.next_pass();
         if target.is_none() {
             bar.set_length(passes + 1);
         }
         bar.set_position(passes);
-        bar.set_message(format!("{:.1} M photons", photons as f64 / 1e6));
+        bar.set_message(format!("{:.1} M photons", totals.photons as f64 / 1e6));
         if out.snapshots
             && !out.partial
             && (passes.is_power_of_two() || last_snapshot.elapsed() >= SNAPSHOT_EVERY)
@@ -144,11 +175,70 @@ pub fn run(
         }
     }
     bar.finish_and_clear();
-    let secs = start.elapsed().as_secs_f64();
-    if out.partial {
-        checkpoint::save_with(&state, &info, &out.image)?;
+    finish(
+        scene,
+        &state,
+        &info,
+        out,
+        &totals,
+        start.elapsed().as_secs_f64(),
+        interrupted,
+    )
+}
+
+/// What the passes of a run did, for its report.
+#[derive(Default)]
+struct Totals {
+    photons: u64,
+    rays: u64,
+    split: photon::progressive::PassSeconds,
+}
+
+impl Totals {
+    fn add(&mut self, stats: &photon::progressive::PassStats) {
+        self.photons += stats.photons_emitted;
+        self.rays += stats.rays.total();
+        self.split.camera += stats.seconds.camera;
+        self.split.photons += stats.seconds.photons;
+        self.split.gather += stats.seconds.gather;
+    }
+}
+
+fn progress_bar(quiet: bool, target: Option<u64>) -> ProgressBar {
+    let bar = if quiet {
+        ProgressBar::hidden()
     } else {
-        checkpoint::save_with(&state, &info, &out.checkpoint)?;
+        ProgressBar::new(target.unwrap_or(0))
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} pass {pos}/{len} [{bar:30}] {msg}  {elapsed_precise} elapsed, ETA {eta}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    bar
+}
+
+/// Save the checkpoint (or the partial render) and the image of the completed passes, and
+/// report; an interrupted run then exits with 130. With no pass completed there is no image.
+fn finish(
+    scene: &Scene,
+    state: &ProgressiveState,
+    info: &RunInfo,
+    out: &Outputs,
+    totals: &Totals,
+    secs: f64,
+    interrupted: bool,
+) -> Result<()> {
+    if state.passes == 0 {
+        eprintln!("photon: interrupted before the first pass completed; nothing was written");
+        std::process::exit(130);
+    }
+    if out.partial {
+        checkpoint::save_with(state, info, &out.image)?;
+    } else {
+        checkpoint::save_with(state, info, &out.checkpoint)?;
         write_image(&state.image(), &out.image, out.exposure)?;
     }
     eprintln!(
@@ -160,8 +250,8 @@ pub fn run(
         state.first_pass,
         state.next_pass(),
         state.config.method.name(),
-        photons as f64 / secs / 1e6,
-        rays as f64 / secs / 1e6,
+        totals.photons as f64 / secs / 1e6,
+        totals.rays as f64 / secs / 1e6,
         out.image.display(),
         if out.partial {
             String::new()
@@ -169,6 +259,7 @@ pub fn run(
             format!(" (checkpoint {})", out.checkpoint.display())
         }
     );
+    let split = &totals.split;
     eprintln!(
         "photon: passes spent {:.2} s on camera paths, {:.2} s tracing photons, {:.2} s gathering",
         split.camera, split.photons, split.gather
@@ -184,17 +275,57 @@ pub fn run(
     Ok(())
 }
 
-/// `photon render --resume FILE [--passes N] [--time S] [-o OUT]`.
-pub fn resume(
-    path: &Path,
-    budget: Budget,
-    output: Option<&Path>,
-    exposure: f32,
-    quiet: bool,
-    pool: &rayon::ThreadPool,
-) -> Result<()> {
+/// What `--resume` takes besides the checkpoint.
+pub struct ResumeArgs<'a> {
+    pub budget: Budget,
+    pub output: Option<&'a Path>,
+    pub exposure: f32,
+    pub quiet: bool,
+    /// Environment flags given again: they must be the run's.
+    pub env: &'a super::EnvironmentArgs,
+}
+
+/// The environment flags of a run, as a command line would give them.
+fn describe_env(env: &EnvSettings) -> String {
+    let mut flags = Vec::new();
+    if let Some(s) = &env.sky {
+        flags.push(format!("--env {s}"));
+    }
+    if let Some(r) = env.rotate_deg {
+        flags.push(format!("--env-rotate {r}"));
+    }
+    if let Some(i) = env.intensity {
+        flags.push(format!("--env-intensity {i}"));
+    }
+    if flags.is_empty() {
+        "no environment flags".into()
+    } else {
+        flags.join(" ")
+    }
+}
+
+/// `photon render --resume FILE [--passes N] [--time S] [-o OUT]`: the scene is loaded with
+/// the environment flags the checkpoint keeps.
+pub fn resume(path: &Path, args: &ResumeArgs, pool: &rayon::ThreadPool) -> Result<()> {
+    let ResumeArgs {
+        budget,
+        output,
+        exposure,
+        quiet,
+        ..
+    } = *args;
     let (state, info) = checkpoint::load_with(path)?;
-    let (scene, _, _) = super::scene(&state.scene_name)?;
+    let given = env_settings(args.env);
+    if given != EnvSettings::default() && given != info.env {
+        bail!(
+            "'{}' was rendered with {}; --resume keeps its environment flags, so give the same or none",
+            path.display(),
+            describe_env(&info.env)
+        );
+    }
+    let (loaded, files) =
+        photon::io::input::recording(|| super::scene_with(&state.scene_name, &env_args(&info.env)));
+    let (scene, _, _) = loaded?;
     if scene.content_hash() != state.scene_hash {
         bail!(
             "'{}' was written for a different version of scene '{}'; it cannot be continued",
@@ -226,7 +357,9 @@ pub fn resume(
         },
         quiet,
         partial: false,
+        env: info.env,
     };
+    super::render::refuse_inputs(&out.image, Some(&out.checkpoint), &[], false, &files)?;
     run(&scene, state, budget, &out, pool)
 }
 

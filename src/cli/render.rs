@@ -10,7 +10,7 @@ use photon::io::phm;
 use photon::io::sample_part::PartOrigin as SampleOrigin;
 use photon::render::RenderOutput;
 use photon::scene::Scene;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -286,6 +286,9 @@ fn check_flags(a: &RenderArgs) -> Result<()> {
     {
         bail!("--time {s} must be a positive number of seconds");
     }
+    if a.passes == Some(0) {
+        bail!("--passes 0: a render needs at least one pass");
+    }
     if let Some(r) = a.radius
         && !(r > 0.0 && r.is_finite())
     {
@@ -305,9 +308,17 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     if let Some(cp) = &a.resume {
         let pool = super::thread_pool(a.threads)?;
-        return progressive::resume(cp, budget, a.output.as_deref(), a.exposure, a.quiet, &pool);
+        let args = progressive::ResumeArgs {
+            budget,
+            output: a.output.as_deref(),
+            exposure: a.exposure,
+            quiet: a.quiet,
+            env: &a.env,
+        };
+        return progressive::resume(cp, &args, &pool);
     }
-    let (scene, spec, load_seconds) = super::scene_with(&a.scene, &a.env)?;
+    let (loaded, inputs) = photon::io::input::recording(|| super::scene_with(&a.scene, &a.env));
+    let (scene, spec, load_seconds) = loaded?;
     let mut resolved = a.options();
     resolved.apply_scene_settings(&spec)?;
     let kind = resolved.integrator.unwrap_or(IntegratorKind::Photon);
@@ -343,7 +354,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             bail!("--pass-range needs --integrator ppm (sppm passes depend on each other)");
         }
         let job = RenderJob::new(&scene, &spec, a.options())?;
-        return run_progressive(&a, &scene, &job);
+        return run_progressive(&a, &scene, &job, &inputs);
     }
     let progressive_only = [
         (a.pass_range.is_some(), "--pass-range"),
@@ -378,6 +389,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
     } else {
         Some(check_writable(&output)?)
     };
+    let aovs: Vec<&str> = if format == Some(ImageFormat::Exr) {
+        Vec::new()
+    } else {
+        a.aov.iter().map(|x| x.name()).collect()
+    };
+    refuse_inputs(&output, None, &aovs, false, &inputs)?;
     if let Some((_, end)) = a.sample_range {
         let spp = a.spp.or(spec.spp).unwrap_or(kind.default_spp());
         if end > u64::from(spp) {
@@ -471,7 +488,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-fn run_progressive(a: &RenderArgs, scene: &Scene, job: &RenderJob) -> Result<()> {
+fn run_progressive(
+    a: &RenderArgs,
+    scene: &Scene,
+    job: &RenderJob,
+    inputs: &[PathBuf],
+) -> Result<()> {
     let partial = a.pass_range.is_some();
     let budget = progressive::Budget {
         passes: job.target_passes(),
@@ -533,6 +555,13 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, job: &RenderJob) -> Result<()>
             checkpoint.display()
         );
     }
+    refuse_inputs(
+        &output,
+        (!partial).then_some(&checkpoint),
+        &[],
+        a.snapshots,
+        inputs,
+    )?;
     let state = job.progressive_state()?;
     let pool = super::thread_pool(a.threads)?;
     let outputs = progressive::Outputs {
@@ -542,8 +571,85 @@ fn run_progressive(a: &RenderArgs, scene: &Scene, job: &RenderJob) -> Result<()>
         exposure: a.exposure,
         quiet: a.quiet,
         partial,
+        env: progressive::env_settings(&a.env),
     };
     progressive::run(scene, state, budget, &outputs, &pool)
+}
+
+/// `path` resolved through symbolic links, as far as it exists (an output may not yet).
+fn canonical(path: &Path) -> PathBuf {
+    if let Ok(p) = std::fs::canonicalize(path) {
+        return p;
+    }
+    let parent = path.parent().filter(|d| !d.as_os_str().is_empty());
+    match (
+        parent.map_or(std::fs::canonicalize("."), std::fs::canonicalize),
+        path.file_name(),
+    ) {
+        (Ok(dir), Some(name)) => dir.join(name),
+        _ => std::path::absolute(path).unwrap_or_else(|_| path.to_owned()),
+    }
+}
+
+/// The files an image output writes: `.npy` is one file per channel.
+fn image_files(path: &Path) -> Vec<PathBuf> {
+    if path.extension().and_then(|e| e.to_str()) == Some("npy") {
+        ["r", "g", "b"]
+            .map(|c| photon::io::image::npy_channel_path(path, c))
+            .to_vec()
+    } else {
+        vec![path.to_owned()]
+    }
+}
+
+/// Refuse a render whose output, checkpoint, AOV files or snapshots (`NAME.passNNNNN.EXT`)
+/// would replace one of the files its scene reads (`inputs`), compared as canonical paths.
+pub fn refuse_inputs(
+    output: &Path,
+    checkpoint: Option<&Path>,
+    aovs: &[&str],
+    snapshots: bool,
+    inputs: &[PathBuf],
+) -> Result<()> {
+    let inputs: Vec<PathBuf> = inputs.iter().map(|p| canonical(p)).collect();
+    let mut written = image_files(output);
+    for aov in aovs {
+        written.extend(image_files(&aov_path(output, aov)));
+    }
+    written.extend(checkpoint.map(Path::to_path_buf));
+    for w in &written {
+        if inputs.contains(&canonical(w)) {
+            bail!(
+                "'{}' is a file the scene reads; writing the render there would replace it: give another -o (or --checkpoint)",
+                w.display()
+            );
+        }
+    }
+    if !snapshots {
+        return Ok(());
+    }
+    let out = canonical(output);
+    let (stem, ext) = (
+        out.file_stem().map(|s| s.to_string_lossy().into_owned()),
+        out.extension().map(|e| e.to_string_lossy().into_owned()),
+    );
+    let snapshot = inputs.iter().find(|i| {
+        let name = i.file_name().map(|n| n.to_string_lossy().into_owned());
+        i.parent() == out.parent()
+            && name.zip(stem.as_ref()).is_some_and(|(n, s)| {
+                n.strip_prefix(&format!("{s}.pass"))
+                    .and_then(|r| r.strip_suffix(&format!(".{}", ext.as_deref().unwrap_or("exr"))))
+                    .is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+            })
+    });
+    if let Some(s) = snapshot {
+        bail!(
+            "'{}' is a file the scene reads, and a snapshot of -o {} would replace it: give another -o",
+            s.display(),
+            output.display()
+        );
+    }
+    Ok(())
 }
 
 fn write_outputs(

@@ -43,6 +43,12 @@ struct Header {
     target_passes: Option<u64>,
     #[serde(default)]
     exposure: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    env: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    env_rotate: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    env_intensity: Option<f32>,
 }
 
 /// How the run that wrote a checkpoint was set up, so `--resume` can carry on alone.
@@ -53,6 +59,17 @@ pub struct RunInfo {
     pub target_passes: Option<u64>,
     /// The PNG exposure the run was asked for, which `--resume` keeps.
     pub exposure: Option<f32>,
+    /// The environment light the run's command line gave or changed: part of the scene, so
+    /// `--resume` applies it again.
+    pub env: EnvSettings,
+}
+
+/// `--env`, `--env-rotate`, `--env-intensity` as given (a sky file's path absolute).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EnvSettings {
+    pub sky: Option<String>,
+    pub rotate_deg: Option<f32>,
+    pub intensity: Option<f32>,
 }
 
 fn bad(path: &Path, m: impl Into<String>) -> Error {
@@ -89,6 +106,9 @@ pub fn save_with(state: &ProgressiveState, info: &RunInfo, path: &Path) -> Resul
             .map(|p| p.to_string_lossy().into_owned()),
         target_passes: info.target_passes,
         exposure: info.exposure,
+        env: info.env.sky.clone(),
+        env_rotate: info.env.rotate_deg,
+        env_intensity: info.env.intensity,
     };
     let json = serde_json::to_vec(&header).map_err(|e| bad(path, e.to_string()))?;
     let mut bytes = Vec::new();
@@ -205,6 +225,11 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
         output: hd.output.map(std::path::PathBuf::from),
         target_passes: hd.target_passes,
         exposure: hd.exposure,
+        env: EnvSettings {
+            sky: hd.env,
+            rotate_deg: hd.env_rotate,
+            intensity: hd.env_intensity,
+        },
     };
     let mut state = ProgressiveState {
         config,

@@ -12,6 +12,7 @@ use crate::sampling::{Rng, mix64};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::f64::consts::PI;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -130,11 +131,11 @@ pub struct ProgressiveState {
 }
 
 /// A pass's per-pixel visible points, kept between passes so that a pass neither allocates
-/// nor page-faults 128 bytes per pixel anew (it was a fifth of a 512² pass). Never saved,
+/// nor page-faults its slot per pixel anew (it was a fifth of a 512² pass). Never saved,
 /// compared or cloned: two states with different buffers are the same state.
 #[derive(Default)]
 pub struct PassBuffers {
-    points: Vec<Option<PassPoint>>,
+    points: Vec<PassSlot>,
 }
 
 impl Clone for PassBuffers {
@@ -208,6 +209,17 @@ impl ProgressiveState {
     /// Run the next pass: every pixel's camera path to its visible point, then the pass's
     /// photons splatted into those points (see [`super::splat`]), then each pixel's update.
     pub fn run_pass(&mut self, scene: &Scene) -> Result<PassStats> {
+        self.run_pass_cancellable(scene, &AtomicBool::new(false))
+    }
+
+    /// [`Self::run_pass`], abandoned when `cancel` is set (checked between rows and phases):
+    /// then `Error::Cancelled`, and the state is that of the passes completed before. A pass
+    /// changes the state only in its last step, which is not cancelled.
+    pub fn run_pass_cancellable(
+        &mut self,
+        scene: &Scene,
+        cancel: &AtomicBool,
+    ) -> Result<PassStats> {
         let c = self.config.clone();
         let pass = self.next_pass();
         let camera = Camera::new(&scene.camera, c.width, c.height)
@@ -221,68 +233,51 @@ impl ProgressiveState {
         };
         let ppm_r_scale = ppm_radius_scale(pass, c.alpha);
         let jitter = PassJitter::new(c.seed, pass);
-        let trace = |x: usize, y: usize, stats: &mut RayStats| {
+        let stopped = || cancel.load(Ordering::Relaxed);
+        let start = Instant::now();
+        // 1. Every pixel's camera path: its direct light and visible point.
+        let mut slots = std::mem::take(&mut self.buffers.points);
+        slots.resize(width * c.height as usize, PassSlot::default());
+        let sppm = &self.sppm;
+        let rays = camera_paths(&mut slots, width, &stopped, |x, y, stats| {
             let (ray, mut rng) = camera_ray(&camera, &c, &jitter, pass, x, y);
-            let pixel = (y * width + x) as u64;
-            let mut sampler = Prefixed::new(jitter.light(pixel), &mut rng);
-            trace_camera_path(
+            let pixel = y * width + x;
+            let mut sampler = Prefixed::new(jitter.light(pixel as u64), &mut rng);
+            let path = trace_camera_path(
                 scene,
                 &ray,
                 c.max_depth,
                 c.light_samples,
                 &mut sampler,
                 stats,
-            )
-        };
-        let start = Instant::now();
-        // 1. Visible points, with the direct light added to each pixel as it is found.
-        let mut slots = std::mem::take(&mut self.buffers.points);
-        slots.resize(
-            self.config.width as usize * self.config.height as usize,
-            None,
-        );
-        let rays = match c.method {
-            Method::Sppm => visible_points(&mut self.sppm, &mut slots, width, |x, y, px, stats| {
-                let path = trace(x, y, stats);
-                add_finite(&mut px.direct, path.direct);
-                let vp = path.visible?;
-                if px.r2 == 0.0 {
-                    px.r2 = f64::from(initial_r(&vp)).powi(2);
-                }
-                Some((vp, px.r2 as f32))
-            }),
-            Method::Ppm => visible_points(&mut self.ppm, &mut slots, width, |x, y, px, stats| {
-                let path = trace(x, y, stats);
-                add_fixed(px, path.direct);
-                let vp = path.visible?;
-                let r = f64::from(initial_r(&vp)) * f64::from(ppm_r_scale);
-                Some((vp, (r * r) as f32))
-            }),
-        };
-        let camera_done = start.elapsed();
-        // 2. Photons, in a grid whose cells suit the median gather radius.
-        let seed = mix64(c.seed ^ mix64(pass.wrapping_add(0x5eed)));
-        let (photons, scale) =
-            trace_indirect_photons(scene, c.photons_per_pass, seed, PHOTON_MAX_DEPTH)?;
-        let photons_stored = photons.len() as u64;
-        let grid = PhotonGrid::build(photons, GRID_CELL_RADII * median_radius(&slots));
-        let photons_done = start.elapsed();
-        // 3. Each visible point gathers, and its pixel takes the result.
-        let (alpha, w) = (c.alpha, width);
-        match c.method {
-            Method::Sppm => {
-                gather_into(&mut self.sppm, &slots, w, &grid, scale, |px, _, phi, m| {
-                    sppm_update(px, alpha, phi, m);
-                })
+            );
+            let point = path.visible.map(|vp| {
+                let r2 = match c.method {
+                    Method::Sppm if sppm[pixel].r2 > 0.0 => sppm[pixel].r2 as f32,
+                    Method::Sppm => f64::from(initial_r(&vp)).powi(2) as f32,
+                    Method::Ppm => {
+                        let r = f64::from(initial_r(&vp)) * f64::from(ppm_r_scale);
+                        (r * r) as f32
+                    }
+                };
+                PassPoint { vp, r2 }
+            });
+            PassSlot {
+                direct: path.direct,
+                point,
+                ..PassSlot::default()
             }
-            Method::Ppm => gather_into(&mut self.ppm, &slots, w, &grid, scale, |px, r2, phi, m| {
-                if m > 0 {
-                    // In f64: π r² underflows f32 for tiny radii.
-                    let inv_area = 1.0 / (PI * f64::from(r2));
-                    add_fixed(px, Rgb::from_array(phi.map(|x| (x * inv_area) as f32)));
-                }
-            }),
+        });
+        let camera_done = start.elapsed();
+        // 2 and 3. The pass's photons, and each visible point's gather.
+        let (photons_stored, photons_done) =
+            photons_and_gather(scene, &c, pass, &mut slots, &stopped, start)?;
+        if stopped() {
+            self.buffers.points = slots;
+            return Err(Error::Cancelled);
         }
+        // 4. Each pixel takes its direct light and its gather.
+        self.apply(&slots, &initial_r);
         self.buffers.points = slots;
         self.passes += 1;
         Ok(PassStats {
@@ -295,6 +290,33 @@ impl ProgressiveState {
                 gather: (start.elapsed() - photons_done).as_secs_f64(),
             },
         })
+    }
+
+    /// The last step of a pass: every pixel adds its slot's direct light, then its photons
+    /// (SPPM: the α rule on the radius the pixel had, or the initial one).
+    fn apply(&mut self, slots: &[PassSlot], initial_r: &(impl Fn(&VisiblePoint) -> f32 + Sync)) {
+        let alpha = self.config.alpha;
+        match self.config.method {
+            Method::Sppm => self.sppm.par_iter_mut().zip(slots).for_each(|(px, slot)| {
+                add_finite(&mut px.direct, slot.direct);
+                if let Some(v) = &slot.point {
+                    if px.r2 == 0.0 {
+                        px.r2 = f64::from(initial_r(&v.vp)).powi(2);
+                    }
+                    sppm_update(px, alpha, slot.phi, slot.m);
+                }
+            }),
+            Method::Ppm => self.ppm.par_iter_mut().zip(slots).for_each(|(px, slot)| {
+                add_fixed(px, slot.direct);
+                if let Some(v) = &slot.point
+                    && slot.m > 0
+                {
+                    // In f64: π r² underflows f32 for tiny radii.
+                    let inv_area = 1.0 / (PI * f64::from(v.r2));
+                    add_fixed(px, Rgb::from_array(slot.phi.map(|x| (x * inv_area) as f32)));
+                }
+            }),
+        }
     }
 
     /// The image after the passes so far.
@@ -364,9 +386,9 @@ impl ProgressiveState {
     }
 }
 
-/// Bytes of a pixel's visible-point slot, for the memory check.
-const SLOT_BYTES: u64 = 136;
-const _: () = assert!(std::mem::size_of::<Option<PassPoint>>() as u64 <= SLOT_BYTES);
+/// Bytes of a pixel's slot, for the memory check.
+const SLOT_BYTES: u64 = 184;
+const _: () = assert!(std::mem::size_of::<PassSlot>() as u64 <= SLOT_BYTES);
 
 /// A pixel's visible point in this pass and its squared gather radius.
 #[derive(Clone, Copy, Debug)]
@@ -375,23 +397,36 @@ struct PassPoint {
     r2: f32,
 }
 
-/// Run `f(x, y, pixel, stats)` on every pixel, rows in parallel, and put the visible point it
-/// returns in the pixel's slot; pixels are independent, so the result does not depend on the
+/// What a pass found for one pixel, kept apart from the pixel until the pass completes.
+#[derive(Clone, Copy, Debug, Default)]
+struct PassSlot {
+    /// The camera path's light (emission seen, next-event estimation).
+    direct: Rgb,
+    point: Option<PassPoint>,
+    /// The gather at `point`: Σ f·ΔΦ in watts and the photon count.
+    phi: [f64; 3],
+    m: u32,
+}
+
+/// Fill every pixel's slot with `f(x, y, stats)`, rows in parallel; rows not started when
+/// `stopped()` are skipped. Pixels are independent, so the result does not depend on the
 /// thread count.
-fn visible_points<P: Send>(
-    pixels: &mut [P],
-    slots: &mut [Option<PassPoint>],
+fn camera_paths(
+    slots: &mut [PassSlot],
     width: usize,
-    f: impl Fn(usize, usize, &mut P, &mut RayStats) -> Option<(VisiblePoint, f32)> + Sync,
+    stopped: &(impl Fn() -> bool + Sync),
+    f: impl Fn(usize, usize, &mut RayStats) -> PassSlot + Sync,
 ) -> RayStats {
-    pixels
+    slots
         .par_chunks_mut(width)
-        .zip(slots.par_chunks_mut(width))
         .enumerate()
-        .map(|(y, (row, row_slots))| {
+        .map(|(y, row)| {
             let mut stats = RayStats::default();
-            for (x, (px, slot)) in row.iter_mut().zip(row_slots).enumerate() {
-                *slot = f(x, y, px, &mut stats).map(|(vp, r2)| PassPoint { vp, r2 });
+            if stopped() {
+                return stats;
+            }
+            for (x, slot) in row.iter_mut().enumerate() {
+                *slot = f(x, y, &mut stats);
             }
             stats
         })
@@ -401,42 +436,69 @@ fn visible_points<P: Send>(
         })
 }
 
+/// A pass's photons, in a grid whose cells suit the median gather radius, then each slot's
+/// gather; skipped once `stopped()`. Returns the photons stored and when the grid was built.
+fn photons_and_gather(
+    scene: &Scene,
+    c: &ProgressiveConfig,
+    pass: u64,
+    slots: &mut [PassSlot],
+    stopped: &(impl Fn() -> bool + Sync),
+    start: Instant,
+) -> Result<(u64, std::time::Duration)> {
+    if stopped() {
+        return Ok((0, start.elapsed()));
+    }
+    let seed = mix64(c.seed ^ mix64(pass.wrapping_add(0x5eed)));
+    let (photons, scale) =
+        trace_indirect_photons(scene, c.photons_per_pass, seed, PHOTON_MAX_DEPTH)?;
+    if stopped() {
+        return Ok((0, start.elapsed()));
+    }
+    let stored = photons.len() as u64;
+    let grid = PhotonGrid::build(photons, GRID_CELL_RADII * median_radius(slots));
+    let done = start.elapsed();
+    gather(slots, c.width as usize, &grid, scale, stopped);
+    Ok((stored, done))
+}
+
 /// Grid cells are this many median gather radii wide: a query then visits about (1 + 2/3)³ ≈ 5
 /// cells. Cells of 2 radii (always 8 cells, each nearly empty) gathered 25% slower on
 /// `cornell`: the time goes to reaching buckets, not to testing photons.
 const GRID_CELL_RADII: f32 = 3.0;
 
-/// Gather at every pixel's visible point, rows in parallel, and hand the pixel, its radius²,
-/// Σ f·ΔΦ in watts weighted by the camera path's throughput (a channel that overflows is
-/// dropped) and the photon count to `update`.
-fn gather_into<P: Send>(
-    pixels: &mut [P],
-    slots: &[Option<PassPoint>],
+/// Gather at every slot's visible point, rows in parallel, into the slot: Σ f·ΔΦ in watts
+/// weighted by the camera path's throughput (a channel that overflows is dropped) and the
+/// photon count. Rows not started when `stopped()` are skipped.
+fn gather(
+    slots: &mut [PassSlot],
     width: usize,
     grid: &PhotonGrid<PassPhoton>,
     scale: f32,
-    update: impl Fn(&mut P, f32, [f64; 3], u32) + Sync,
+    stopped: &(impl Fn() -> bool + Sync),
 ) {
-    pixels
+    slots
         .par_chunks_mut(width)
-        .zip(slots.par_chunks(width))
-        .for_each_init(QueryScratch::default, |scratch, (row, row_slots)| {
-            for (px, slot) in row.iter_mut().zip(row_slots) {
-                let Some(v) = slot else {
+        .for_each_init(QueryScratch::default, |scratch, row| {
+            if stopped() {
+                return;
+            }
+            for slot in row {
+                let Some(v) = &slot.point else {
                     continue;
                 };
                 let (flux, m) = photon_flux(grid, &v.vp, v.r2, scratch);
-                let phi = (flux * scale * v.vp.beta)
+                slot.phi = (flux * scale * v.vp.beta)
                     .to_array()
                     .map(|x| if x.is_finite() { f64::from(x) } else { 0.0 });
-                update(px, v.r2, phi, m);
+                slot.m = m;
             }
         });
 }
 
 /// Median gather radius of a pass's points (0 with none).
-fn median_radius(slots: &[Option<PassPoint>]) -> f32 {
-    let mut r2: Vec<f32> = slots.iter().flatten().map(|p| p.r2).collect();
+fn median_radius(slots: &[PassSlot]) -> f32 {
+    let mut r2: Vec<f32> = slots.iter().filter_map(|s| s.point).map(|p| p.r2).collect();
     if r2.is_empty() {
         return 0.0;
     }

@@ -48,6 +48,26 @@ def fmt(v):
     return "[" + ", ".join(f"{float(x):.9g}" for x in v) + "]"
 
 
+TOML_ESCAPES = {'"': '\\"', "\\": "\\\\", "\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f",
+                "\r": "\\r"}
+
+
+def toml_string(text):
+    """`text` as a TOML basic string: quotes, backslashes and control characters escaped
+    (a lone surrogate, which UTF-8 cannot hold, becomes U+FFFD)."""
+    out = []
+    for ch in text:
+        if ch in TOML_ESCAPES:
+            out.append(TOML_ESCAPES[ch])
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\u{ord(ch):04X}")
+        elif 0xD800 <= ord(ch) <= 0xDFFF:
+            out.append("\ufffd")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
 class PhotonRenderSettings(bpy.types.PropertyGroup):
     integrator: bpy.props.EnumProperty(
         name="Integrator",
@@ -72,6 +92,12 @@ class PhotonRenderSettings(bpy.types.PropertyGroup):
                                    description="0: one per core")
 
 
+def resolution(scene):
+    r = scene.render
+    return (int(r.resolution_x * r.resolution_percentage / 100),
+            int(r.resolution_y * r.resolution_percentage / 100))
+
+
 def camera_toml(scene):
     cam = scene.camera
     if cam is None or cam.data.type != "PERSP":
@@ -81,8 +107,7 @@ def camera_toml(scene):
     forward = (m.to_3x3() @ mathutils.Vector((0.0, 0.0, -1.0))).normalized()
     up = (m.to_3x3() @ mathutils.Vector((0.0, 1.0, 0.0))).normalized()
     r = scene.render
-    w = int(r.resolution_x * r.resolution_percentage / 100)
-    h = int(r.resolution_y * r.resolution_percentage / 100)
+    w, h = resolution(scene)
     aspect = (w * r.pixel_aspect_x) / (h * r.pixel_aspect_y)
     fit = cam.data.sensor_fit
     horizontal = fit == "HORIZONTAL" or (fit == "AUTO" and aspect >= 1.0)
@@ -191,13 +216,13 @@ def export_scene(depsgraph, directory, report=lambda m: None):
             use_visible=True,
         )
     camera, size = camera_toml(scene)
-    parts = [f"name = \"{scene.name}\"\n", camera]
+    parts = [f"name = {toml_string(scene.name)}\n", camera]
     if has_meshes:
         parts.append("[[shapes]]\ntype = \"mesh\"\nfile = \"meshes.glb\"\n")
     parts.append(lights_toml(depsgraph, report))
     parts.append(world_toml(scene, report))
     path = os.path.join(directory, "scene.toml")
-    with open(path, "w") as f:
+    with open(path, "w", encoding="utf-8") as f:
         f.write("\n".join(p for p in parts if p))
     return path, size
 
@@ -220,6 +245,24 @@ class PhotonRenderEngine(bpy.types.RenderEngine):
     bl_use_preview = False
 
     def render(self, depsgraph):
+        # An exception leaving a render engine leaves Blender without a result: writing the
+        # image then crashed it (EXR) or wrote nothing without a word (PNG). Every error is
+        # reported instead, over an empty image when no pass was shown.
+        shown = []
+        try:
+            self.render_photon(depsgraph, shown)
+        except Exception as e:  # noqa: BLE001 - any error, Photon's or the export's
+            self.report({"ERROR"}, f"Photon: {e}")
+            if not shown:
+                w, h = resolution(depsgraph.scene)
+                self.show(np_zeros_rgba(w, h), w, h)
+
+    def show(self, rgba, w, h):
+        result = self.begin_result(0, 0, w, h)
+        result.layers[0].passes["Combined"].rect = rgba.reshape(-1, 4)
+        self.end_result(result)
+
+    def render_photon(self, depsgraph, shown):
         import numpy as np
         import photon
 
@@ -238,9 +281,8 @@ class PhotonRenderEngine(bpy.types.RenderEngine):
             # Blender's rows run bottom to top, as RGBA.
             rgba = np.ones((h, w, 4), dtype=np.float32)
             rgba[:, :, :3] = image[::-1]
-            result = self.begin_result(0, 0, w, h)
-            result.layers[0].passes["Combined"].rect = rgba.reshape(-1, 4)
-            self.end_result(result)
+            self.show(rgba, w, h)
+            shown.append(True)
 
         if settings.integrator in ("sppm", "ppm"):
             image = None
@@ -257,6 +299,12 @@ class PhotonRenderEngine(bpy.types.RenderEngine):
             self.update_stats("", "Photon: rendering")
             image, _ = photon.render(scene, threads=threads, **o)
             show(image)
+
+
+def np_zeros_rgba(w, h):
+    import numpy as np
+
+    return np.zeros((h, w, 4), dtype=np.float32)
 
 
 class RENDER_PT_photon(bpy.types.Panel):
