@@ -2,7 +2,7 @@
 
 use anyhow::{Result, bail};
 use photon::compare::{Comparison, Crop, compare};
-use photon::io::image::read_image;
+use photon::io::image::read_image_pair;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -34,8 +34,7 @@ fn parse_crop(s: &str) -> Result<Crop, String> {
 }
 
 pub fn run(a: &CompareArgs) -> Result<()> {
-    let img = read_image(&a.image)?;
-    let reference = read_image(&a.reference)?;
+    let (img, reference) = read_image_pair(&a.image, &a.reference)?;
     if (img.width, img.height) != (reference.width, reference.height) {
         bail!(
             "the images differ in size: '{}' is {}×{}, '{}' is {}×{}",

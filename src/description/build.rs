@@ -251,9 +251,10 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
             let (base, texture) = color(&p.base_color, base_dir)?;
             let data = |t: &ImageRef| -> Result<MappedTexture> {
                 Ok(match t {
-                    ImageRef::File(f) => Texture::Image(Arc::new(
-                        crate::io::texture::read_texture_as(&base_dir.join(f), Encoding::Linear)?,
-                    ))
+                    ImageRef::File(f) => Texture::Image(crate::io::texture::read_texture_as(
+                        &base_dir.join(f),
+                        Encoding::Linear,
+                    )?)
                     .into(),
                     ImageRef::Decoded(d) => MappedTexture {
                         texture: Texture::Image(d.image.clone()),
@@ -283,7 +284,7 @@ fn color(spec: &ColorSpec, base_dir: &Path) -> Result<(Rgb, Option<MappedTexture
         ColorSpec::Constant(c) => (*c, None),
         ColorSpec::Image { file, tint } => {
             let t = crate::io::texture::read_texture(&base_dir.join(file))?;
-            (*tint, Some(Texture::Image(Arc::new(t)).into()))
+            (*tint, Some(Texture::Image(t).into()))
         }
         ColorSpec::Decoded { texture, tint } => (
             *tint,
@@ -311,7 +312,7 @@ fn environment_light(e: &EnvironmentSpec, base_dir: &Path) -> Result<Environment
     Ok(match &e.sky {
         Sky::Uniform(r) => EnvironmentLight::uniform(*r * e.intensity),
         Sky::File(f) => EnvironmentLight::image(
-            Arc::new(crate::io::image::read_environment(&base_dir.join(f))?),
+            crate::io::image::read_environment(&base_dir.join(f))?,
             Rgb::splat(e.intensity),
             e.rotate_deg,
         ),
@@ -329,9 +330,7 @@ fn radiance(e: &EmissionSpec, area: f32, base_dir: &Path) -> Result<Emission> {
             let (texture, texture_mapping) = match texture {
                 None => (None, UvMapping::IDENTITY),
                 Some(ImageRef::File(f)) => (
-                    Some(Arc::new(crate::io::texture::read_texture(
-                        &base_dir.join(f),
-                    )?)),
+                    Some(crate::io::texture::read_texture(&base_dir.join(f))?),
                     UvMapping::IDENTITY,
                 ),
                 Some(ImageRef::Decoded(t)) => (Some(t.image.clone()), t.mapping),

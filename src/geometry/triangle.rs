@@ -86,8 +86,11 @@ impl Triangle {
         }
     }
 
+    /// Half the edges' cross product's length, in f64: its squared components overflow f32
+    /// for edges past about 1e10, well inside the coordinates a scene may have.
     pub fn area(&self) -> f32 {
-        0.5 * self.e1.cross(self.e2).length()
+        let (a, b) = (self.e1.as_dvec3(), self.e2.as_dvec3());
+        (0.5 * a.cross(b).length()) as f32
     }
 
     pub fn sample_area(&self, u: Vec2) -> SurfacePoint {

@@ -5,10 +5,12 @@
 
 use crate::error::{Error, Result};
 use crate::film::Image;
+use crate::io::decoded::{self, Footprint, Reservation};
 use crate::math::Rgb;
 use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 /// Image formats Photon reads and writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -349,6 +351,19 @@ fn write_pfm(image: &Image, path: &Path) -> std::io::Result<()> {
 
 /// Read a linear image (OpenEXR or PFM).
 pub fn read_image(path: &Path) -> Result<Image> {
+    read_linear(path, MAX_IMAGE_PIXELS).map(|(image, _room)| image)
+}
+
+/// Read two linear images needed together (an image and its reference): the second must fit
+/// the decoded-image budget beside the first.
+pub fn read_image_pair(first: &Path, second: &Path) -> Result<(Image, Image)> {
+    let (a, _room) = read_linear(first, MAX_IMAGE_PIXELS)?;
+    let (b, _) = read_linear(second, MAX_IMAGE_PIXELS)?;
+    Ok((a, b))
+}
+
+/// An OpenEXR or PFM image of at most `max_pixels`, and its room in the decoded-image budget.
+fn read_linear(path: &Path, max_pixels: u64) -> Result<(Image, Reservation)> {
     let format = ImageFormat::from_path(path).ok_or_else(|| unsupported(path, READABLE))?;
     if !path.exists() {
         return Err(Error::Read {
@@ -356,60 +371,107 @@ pub fn read_image(path: &Path) -> Result<Image> {
             source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
         });
     }
-    let bad = |message: String| Error::BadImage {
-        path: path.to_owned(),
-        message,
-    };
     match format {
-        ImageFormat::Exr => {
-            use exr::prelude::{ReadChannels as _, ReadLayers as _};
-            let bytes = crate::io::input::read_file(path)?;
-            // The header's resolution is the file's word: refuse a huge one before the
-            // pixels are allocated (an empty image stands in, and is refused below).
-            let too_big = std::sync::Arc::new(std::sync::Mutex::new(None));
-            let flag = too_big.clone();
-            let img = exr::prelude::read()
-                .no_deep_data()
-                .largest_resolution_level()
-                .rgba_channels(
-                    move |res: exr::math::Vec2<usize>, _: &exr::image::RgbaChannels| {
-                        let (w, h) = (res.width() as u64, res.height() as u64);
-                        if w * h > MAX_IMAGE_PIXELS {
-                            if let Ok(mut f) = flag.lock() {
-                                *f = Some((w, h));
-                            }
-                            return Image::new(0, 0);
-                        }
-                        Image::new(w as u32, h as u32)
-                    },
-                    |img: &mut Image,
-                     pos: exr::math::Vec2<usize>,
-                     (r, g, b, _a): (f32, f32, f32, f32)| {
-                        if img.width > 0 {
-                            img.set(pos.x() as u32, pos.y() as u32, Rgb::new(r, g, b));
-                        }
-                    },
-                )
-                .first_valid_layer()
-                .all_attributes()
-                .from_buffered(std::io::Cursor::new(bytes))
-                .map_err(|e| bad(format!("not a readable OpenEXR image: {e}")))?;
-            let too_big = *too_big
-                .lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner);
-            if let Some((w, h)) = too_big {
-                return Err(bad(format!(
-                    "{w}×{h} pixels is more than the {MAX_IMAGE_PIXELS} an image may have"
-                )));
-            }
-            Ok(img.layer_data.channel_data.pixels)
-        }
+        ImageFormat::Exr => read_exr(path, max_pixels),
         ImageFormat::Pfm => {
             let data = crate::io::input::read_file(path)?;
-            parse_pfm(&data).map_err(bad)
+            parse_pfm(&data, path, max_pixels)
         }
         ImageFormat::Png | ImageFormat::Npy => Err(unsupported(path, READABLE)),
     }
+}
+
+fn bad_image(path: &Path, message: String) -> Error {
+    Error::BadImage {
+        path: path.to_owned(),
+        message,
+    }
+}
+
+/// Room for a linear RGB image of `w` × `h` pixels (12 bytes each), refused past `max_pixels`
+/// or the budget.
+fn reserve_linear(path: &Path, w: u64, h: u64, max_pixels: u64) -> Result<Reservation> {
+    let room = decoded::reserve(
+        path,
+        Footprint {
+            width: w.try_into().unwrap_or(u32::MAX),
+            height: h.try_into().unwrap_or(u32::MAX),
+            kept_per_pixel: size_of::<Rgb>() as u64,
+            transient_per_pixel: 0,
+        },
+    )?;
+    if w.saturating_mul(h) > max_pixels {
+        return Err(bad_image(
+            path,
+            format!("{w}×{h} pixels is more than the {max_pixels} accepted"),
+        ));
+    }
+    Ok(room)
+}
+
+/// The first RGB layer of an OpenEXR file, at its largest resolution. Its size is the
+/// header's word: room for it is taken before its pixels are allocated (an empty image
+/// stands in for a refused one, and the refusal is returned).
+fn read_exr(path: &Path, max_pixels: u64) -> Result<(Image, Reservation)> {
+    use exr::prelude::{ReadChannels as _, ReadLayers as _};
+    type Outcome = Option<Result<Reservation>>;
+    fn lock(m: &Mutex<Outcome>) -> std::sync::MutexGuard<'_, Outcome> {
+        m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+    let bytes = crate::io::input::read_file(path)?;
+    // Every layer's size, from the headers alone: a refused file is not decompressed.
+    let meta = exr::meta::MetaData::read_from_buffered(bytes.as_slice(), false)
+        .map_err(|e| bad_image(path, format!("not a readable OpenEXR image: {e}")))?;
+    for header in &meta.headers {
+        let size = header.layer_size;
+        drop(reserve_linear(
+            path,
+            size.width() as u64,
+            size.height() as u64,
+            max_pixels,
+        )?);
+    }
+    let outcome: Arc<Mutex<Outcome>> = Arc::default();
+    let seen = outcome.clone();
+    let owned = path.to_owned();
+    let img = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            move |res: exr::math::Vec2<usize>, _: &exr::image::RgbaChannels| {
+                let (w, h) = (res.width() as u64, res.height() as u64);
+                let made = reserve_linear(&owned, w, h, max_pixels)
+                    .and_then(|room| Ok((decoded::zeroed::<Rgb>(&owned, (w * h) as usize)?, room)));
+                let (image, room) = match made {
+                    Ok((pixels, room)) => {
+                        let (width, height) = (w as u32, h as u32);
+                        (
+                            Image {
+                                width,
+                                height,
+                                pixels,
+                            },
+                            Ok(room),
+                        )
+                    }
+                    Err(e) => (Image::new(0, 0), Err(e)),
+                };
+                *lock(&seen) = Some(room);
+                image
+            },
+            |img: &mut Image, pos: exr::math::Vec2<usize>, (r, g, b, _a): (f32, f32, f32, f32)| {
+                if img.width > 0 {
+                    img.set(pos.x() as u32, pos.y() as u32, Rgb::new(r, g, b));
+                }
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes));
+    let room = lock(&outcome).take().transpose()?;
+    let img = img.map_err(|e| bad_image(path, format!("not a readable OpenEXR image: {e}")))?;
+    let room = room.ok_or_else(|| bad_image(path, "it has no RGB layer".into()))?;
+    Ok((img.layer_data.channel_data.pixels, room))
 }
 
 /// Formats an environment map may have.
@@ -439,47 +501,20 @@ pub const MAX_IMAGE_PIXELS: u64 = 1 << 30;
 pub const MAX_ENVIRONMENT_PIXELS: u64 = 1 << 27;
 
 /// Read an equirectangular environment map: OpenEXR, Radiance HDR (RGBE) or PFM, linear RGB,
-/// top row first. Negative and non-finite values are errors, not light.
-pub fn read_environment(path: &Path) -> Result<crate::light::EnvironmentMap> {
+/// top row first. Negative and non-finite values are errors, not light. The map counts against
+/// the decoded-image budget while it is held.
+pub fn read_environment(path: &Path) -> Result<Arc<crate::light::EnvironmentMap>> {
     let format =
         EnvironmentFormat::from_path(path).ok_or_else(|| unsupported(path, ".exr, .hdr, .pfm"))?;
-    let bad = |message: String| Error::BadImage {
-        path: path.to_owned(),
-        message,
-    };
-    let image = match format {
-        EnvironmentFormat::Exr | EnvironmentFormat::Pfm => read_image(path)?,
-        EnvironmentFormat::Hdr => {
-            let bytes = crate::io::input::read_file(path)?;
-            let mut reader = image::ImageReader::with_format(
-                std::io::Cursor::new(&bytes),
-                image::ImageFormat::Hdr,
-            );
-            let mut limits = image::Limits::default();
-            limits.max_alloc = Some(MAX_ENVIRONMENT_PIXELS * 16);
-            reader.limits(limits);
-            let decoded = reader
-                .decode()
-                .map_err(|e| bad(format!("not a readable Radiance HDR image: {e}")))?
-                .to_rgb32f();
-            Image {
-                width: decoded.width(),
-                height: decoded.height(),
-                pixels: decoded
-                    .pixels()
-                    .map(|p| Rgb::new(p[0], p[1], p[2]))
-                    .collect(),
-            }
+    let bad = |message: String| bad_image(path, message);
+    let (image, room) = match format {
+        EnvironmentFormat::Exr | EnvironmentFormat::Pfm => {
+            read_linear(path, MAX_ENVIRONMENT_PIXELS)?
         }
+        EnvironmentFormat::Hdr => read_hdr(path)?,
     };
     if image.width == 0 || image.height == 0 {
         return Err(bad("the image is empty".into()));
-    }
-    if u64::from(image.width) * u64::from(image.height) > MAX_ENVIRONMENT_PIXELS {
-        return Err(bad(format!(
-            "{}×{} pixels is more than the {MAX_ENVIRONMENT_PIXELS} an environment map may have",
-            image.width, image.height
-        )));
     }
     if let Some(i) = image
         .pixels
@@ -492,14 +527,75 @@ pub fn read_environment(path: &Path) -> Result<crate::light::EnvironmentMap> {
             image.pixels[i]
         )));
     }
-    Ok(crate::light::EnvironmentMap {
+    let bytes = (image.pixels.len() * size_of::<Rgb>()) as u64;
+    let map = Arc::new(crate::light::EnvironmentMap {
         width: image.width,
         height: image.height,
         texels: image.pixels,
-    })
+    });
+    room.hold(&map, bytes);
+    Ok(map)
 }
 
-fn parse_pfm(data: &[u8]) -> Result<Image, String> {
+/// A Radiance HDR (RGBE) image, decoded straight into its texels (the decoder's own buffer is
+/// one scan line), after room for them is taken from the header's size.
+fn read_hdr(path: &Path) -> Result<(Image, Reservation)> {
+    use image::ImageDecoder as _;
+    let bad =
+        |e: image::ImageError| bad_image(path, format!("not a readable Radiance HDR image: {e}"));
+    let bytes = crate::io::input::read_file(path)?;
+    let decoder = image::codecs::hdr::HdrDecoder::new(std::io::Cursor::new(&bytes)).map_err(bad)?;
+    let (w, h) = decoder.dimensions();
+    let room = reserve_linear(path, w.into(), h.into(), MAX_ENVIRONMENT_PIXELS)?;
+    let mut pixels = decoded::zeroed::<Rgb>(path, w as usize * h as usize)?;
+    decoder
+        .read_image(bytemuck::cast_slice_mut(&mut pixels))
+        .map_err(bad)?;
+    let image = Image {
+        width: w,
+        height: h,
+        pixels,
+    };
+    Ok((image, room))
+}
+
+/// A PFM image of at most `max_pixels`, and its room in the decoded-image budget.
+fn parse_pfm(data: &[u8], path: &Path, max_pixels: u64) -> Result<(Image, Reservation)> {
+    let (w, h, channels, scale, body) = pfm_header(data).map_err(|m| bad_image(path, m))?;
+    let room = reserve_linear(path, w.into(), h.into(), max_pixels)?;
+    let pixels = decoded::zeroed::<Rgb>(path, w as usize * h as usize)?;
+    let mut img = Image {
+        width: w,
+        height: h,
+        pixels,
+    };
+    let mut k = 0;
+    for y in (0..h).rev() {
+        for x in 0..w {
+            let mut c = [0.0f32; 3];
+            for v in c.iter_mut().take(channels) {
+                let b = [body[k], body[k + 1], body[k + 2], body[k + 3]];
+                *v = if scale < 0.0 {
+                    f32::from_le_bytes(b)
+                } else {
+                    f32::from_be_bytes(b)
+                };
+                k += 4;
+            }
+            if channels == 1 {
+                c = [c[0]; 3];
+            }
+            img.set(x, y, Rgb::from_array(c));
+        }
+    }
+    Ok((img, room))
+}
+
+/// A PFM file's width, height, channels (1 or 3), scale (its sign gives the byte order) and
+/// pixel data, checked to be long enough.
+type PfmHeader<'a> = (u32, u32, usize, f32, &'a [u8]);
+
+fn pfm_header(data: &[u8]) -> Result<PfmHeader<'_>, String> {
     // Header: three whitespace-separated tokens after the magic, then one whitespace byte.
     let mut tokens = Vec::new();
     let mut i = 0;
@@ -545,25 +641,5 @@ fn parse_pfm(data: &[u8]) -> Result<Image, String> {
             body.len()
         ));
     }
-    let mut img = Image::new(w, h);
-    let mut k = 0;
-    for y in (0..h).rev() {
-        for x in 0..w {
-            let mut c = [0.0f32; 3];
-            for v in c.iter_mut().take(channels) {
-                let b = [body[k], body[k + 1], body[k + 2], body[k + 3]];
-                *v = if scale < 0.0 {
-                    f32::from_le_bytes(b)
-                } else {
-                    f32::from_be_bytes(b)
-                };
-                k += 4;
-            }
-            if channels == 1 {
-                c = [c[0]; 3];
-            }
-            img.set(x, y, Rgb::from_array(c));
-        }
-    }
-    Ok(img)
+    Ok((w, h, channels, scale, body))
 }

@@ -2,6 +2,7 @@
 //! models (PLY, OBJ), all written atomically.
 
 pub mod checkpoint;
+pub mod decoded;
 pub mod image;
 pub mod input;
 pub mod mesh;

@@ -54,15 +54,14 @@ impl EnvironmentLight {
     /// An image sky, times `scale`, turned by `rotation_deg` about +y.
     pub fn image(map: Arc<EnvironmentMap>, scale: Rgb, rotation_deg: f32) -> Self {
         let (w, h) = (map.width as usize, map.height as usize);
-        let mut weights = vec![0f64; w * h];
-        for y in 0..h {
+        let distribution = Distribution2D::from_rows(w, h, |y, weights| {
             let sin_theta = (PI * (y as f32 + 0.5) / h as f32).sin();
-            for x in 0..w {
+            for (x, weight) in weights.iter_mut().enumerate() {
                 let l = luminance(map.texels[y * w + x] * scale).max(0.0);
-                weights[y * w + x] = f64::from(l * sin_theta);
+                *weight = f64::from(l * sin_theta);
             }
-        }
-        let distribution = Distribution2D::new(&weights, w, h).map(Arc::new);
+        })
+        .map(Arc::new);
         let r = rotation_deg.to_radians();
         Self {
             scale,

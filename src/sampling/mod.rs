@@ -172,10 +172,31 @@ pub struct Distribution2D {
 impl Distribution2D {
     /// From non-negative cell weights, row-major. `None` if they sum to zero.
     pub fn new(weights: &[f64], width: usize, height: usize) -> Option<Self> {
-        if width == 0 || height == 0 || weights.len() != width * height {
+        if weights.len() != width * height {
             return None;
         }
-        let rows: Vec<_> = weights.chunks(width).map(Distribution1D::new).collect();
+        Self::from_rows(width, height, |j, row| {
+            row.copy_from_slice(&weights[j * width..(j + 1) * width]);
+        })
+    }
+
+    /// As [`Distribution2D::new`], the weights of row `j` written by `row(j, weights)`: one row
+    /// of them exists at a time (an environment map's would be as big as the map).
+    pub fn from_rows(
+        width: usize,
+        height: usize,
+        mut row: impl FnMut(usize, &mut [f64]),
+    ) -> Option<Self> {
+        if width == 0 || height == 0 {
+            return None;
+        }
+        let mut weights = vec![0.0; width];
+        let rows: Vec<_> = (0..height)
+            .map(|j| {
+                row(j, &mut weights);
+                Distribution1D::new(&weights)
+            })
+            .collect();
         let totals: Vec<f64> = rows
             .iter()
             .map(|r| r.as_ref().map_or(0.0, Distribution1D::total))

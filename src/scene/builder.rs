@@ -580,11 +580,12 @@ impl SceneBuilder {
         let prim_second_uvs = reorder(&prim_second_uvs);
         let prim_tangents = reorder(&prim_tangents);
         let shapes = order.iter().map(|&i| shapes[i as usize]).collect();
+        check_light_powers(&lights)?;
         let powers: Vec<f64> = lights
             .iter()
             .map(|l| {
                 let p = l.power();
-                f64::from(p.x + p.y + p.z)
+                f64::from(p.x) + f64::from(p.y) + f64::from(p.z)
             })
             .collect();
         let environment = lights
@@ -618,6 +619,32 @@ impl SceneBuilder {
         scene.aim_distant_lights_at_view();
         Ok(scene)
     }
+}
+
+/// Every light's power, and the lights' total, finite in each channel: photons carry it, and
+/// light choice, photon maps and progressive passes all divide by it. A light whose radiance or
+/// intensity times its size (its area, or the scene's bounding disc for distant lights)
+/// overflows single precision is refused.
+fn check_light_powers(lights: &[Light]) -> Result<()> {
+    let mut total = Rgb::ZERO;
+    for (i, l) in lights.iter().enumerate() {
+        let p = l.power();
+        total += p;
+        if !p.is_finite() || !total.is_finite() {
+            let kind = match l {
+                Light::Point(_) => "point light",
+                Light::Spot(_) => "spot light",
+                Light::Directional(_) => "directional light",
+                Light::Area(_) => "emitter",
+                Light::Environment(_) => "environment light",
+            };
+            return Err(Error::InvalidScene(format!(
+                "light {i} (the {kind}) has a power of {p} W, beyond the {:e} W per channel the lights may emit together: lower its radiance or intensity",
+                f32::MAX
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Give distant lights (directional, environment) the scene's bounding sphere (a hair larger,

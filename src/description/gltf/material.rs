@@ -382,9 +382,7 @@ fn texture_of(
             read_uri(&g.path, &dir, uri)?
         }
     };
-    let decoded = Arc::new(crate::io::texture::decode_texture_as(
-        &bytes, &label, encoding,
-    )?);
+    let decoded = crate::io::texture::decode_texture_as(&bytes, &label, encoding)?;
     sink.textures.insert(key, decoded.clone());
     Ok(decoded)
 }
