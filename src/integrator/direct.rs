@@ -107,8 +107,8 @@ fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk
 /// heuristic, with the sample counts) where light sampling alone would be poor
 /// ([`crate::light::Light::is_bsdf_sampled_at`]: the sky, and area lights seen from close by, where the 1/r²
 /// of the area measure makes its variance unbounded): `light_samples` samples of each such
-/// light, and one sample of the rough part of the BSDF, which counts the emission or sky it
-/// finds there.
+/// light, and samples of the rough part of the BSDF (as many under a sky, one otherwise), which
+/// count the emission or sky they find there.
 ///
 /// `continued` is the probability with which the caller's walk also samples the material's
 /// smooth part here (and so may hit the same light): the smooth lobes' share of each light
@@ -131,6 +131,13 @@ pub(crate) fn direct_light(
     let n = c.light_samples.max(1);
     let mut sum = Rgb::ZERO;
     let mut any_bsdf_sampled = false;
+    // Under a sky, which every rough point sees, as many BSDF samples as light samples (the
+    // BSDF is often the narrower factor there); otherwise one, for the near area lights.
+    let bsdf_samples = if scene.environment().is_some() { n } else { 1 };
+    let counts = BsdfCounts {
+        light: n as f32,
+        bsdf: bsdf_samples as f32,
+    };
     for light in scene.lights() {
         let samples = if light.is_delta() { 1 } else { n };
         let bsdf_sampled = has_rough && light.is_bsdf_sampled_at(sp.hit.p);
@@ -145,7 +152,7 @@ pub(crate) fn direct_light(
             let mut f = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Rough);
             if bsdf_sampled {
                 let p_bsdf = m.pdf_part(sp.wo_local, wi, Part::Rough);
-                f *= power_heuristic(n as f32 * ls.pdf, p_bsdf);
+                f *= power_heuristic(counts.light * ls.pdf, counts.bsdf * p_bsdf);
             }
             if has_smooth {
                 let smooth = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Smooth);
@@ -162,18 +169,29 @@ pub(crate) fn direct_light(
         sum += acc / samples as f32;
     }
     if any_bsdf_sampled {
-        sum += emission_by_rough_bsdf(scene, sp, n as f32, rng, stats);
+        let mut acc = Rgb::ZERO;
+        for _ in 0..bsdf_samples {
+            acc += emission_by_rough_bsdf(scene, sp, counts, rng, stats);
+        }
+        sum += acc / counts.bsdf;
     }
     sum
 }
 
+/// How many light samples (per light) and rough BSDF samples direct lighting takes at a point:
+/// the sample counts of the power heuristic.
+#[derive(Clone, Copy)]
+struct BsdfCounts {
+    light: f32,
+    bsdf: f32,
+}
+
 /// One sample of the rough part: the emission or sky it finds, if direct lighting at this
-/// point samples that light by BSDF too, weighted by the power heuristic against
-/// `light_samples` samples of the light.
+/// point samples that light by BSDF too, weighted by the power heuristic with the counts.
 fn emission_by_rough_bsdf(
     scene: &Scene,
     sp: &ShadingPoint,
-    light_samples: f32,
+    counts: BsdfCounts,
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
@@ -193,7 +211,9 @@ fn emission_by_rough_bsdf(
     let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
         return match scene.environment() {
             Some((_, sky)) => {
-                s.weight * sky.radiance(wi) * power_heuristic(s.pdf, light_samples * sky.pdf(wi))
+                s.weight
+                    * sky.radiance(wi)
+                    * power_heuristic(counts.bsdf * s.pdf, counts.light * sky.pdf(wi))
             }
             None => Rgb::ZERO,
         };
@@ -206,7 +226,7 @@ fn emission_by_rough_bsdf(
         return Rgb::ZERO;
     }
     let p_light = own_light_pdf_for_hit(scene, sp.hit.p, &hit);
-    s.weight * le * power_heuristic(s.pdf, light_samples * p_light)
+    s.weight * le * power_heuristic(counts.bsdf * s.pdf, counts.light * p_light)
 }
 
 /// The MIS weight of emission found by sampling the smooth part of the previous vertex (with
