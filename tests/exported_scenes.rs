@@ -171,9 +171,10 @@ emission = { radiance = 20.0 }
 /// Blender exports a light panel. The ceiling's photons lie on a parallel plane within the
 /// gather disc of the light's own surface; counting them read the light's pixels twice as
 /// bright and the image 25–30% bright in `sppm` and `ppm`. What remains at this small budget
-/// (up to +4.5% in blue, which white surfaces dominate) is the blur of the ceiling's bright
-/// patch above the panel onto the ceiling beside it, which shrinks with the radius (+0.7% at
-/// 256 passes of a 64² image).
+/// is the blur of the ceiling's bright patch above the panel onto the ceiling beside it, which
+/// shrinks with the radius (+0.7% at 256 passes of a 64² image), plus the noise of the slit
+/// that camera paths find rarely: `sppm` read +4.5% to +8.6% in blue (which white surfaces
+/// dominate) between changes of its random streams, hence ±10%, far from the bug's +25%.
 #[test]
 fn a_light_flush_with_a_ceiling_gathers_only_its_own_photons() {
     let light = r#"
@@ -185,5 +186,5 @@ emission = { radiance = 5.0, two_sided = true }
 "#;
     let text = format!("{MATERIALS}{}{light}", box_walls(false))
         .replace("look_at = [0.5, 0.55, 0.5]", "look_at = [0.5, 0.7, 0.5]");
-    assert_within(&ratios_to_path(&scene(&text)), 0.06);
+    assert_within(&ratios_to_path(&scene(&text)), 0.10);
 }

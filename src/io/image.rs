@@ -85,7 +85,7 @@ pub fn temp_path(path: &Path) -> PathBuf {
 /// This machine's name as file names and job locks record it: its host name with anything
 /// but ASCII letters, digits, `-` and `.` replaced by `_` ("unknown" where there is none).
 pub fn host_name() -> String {
-    let raw = fs::read_to_string("/proc/sys/kernel/hostname")
+    let raw = crate::io::input::read_text(Path::new("/proc/sys/kernel/hostname"))
         .ok()
         .or_else(|| std::env::var("HOSTNAME").ok())
         .or_else(|| std::env::var("COMPUTERNAME").ok())

@@ -55,7 +55,7 @@ pub fn worker_part_path(job: &Path, task: usize, holder: &Holder) -> PathBuf {
 /// The holder recorded in a lock file; `None` when it cannot be read (being written, or
 /// damaged).
 fn read_holder(path: &Path) -> Option<Holder> {
-    toml::from_str(&fs::read_to_string(path).ok()?).ok()
+    toml::from_str(&crate::io::input::read_text(path).ok()?).ok()
 }
 
 /// Whether the lock at `path` held by `holder` may be taken over.

@@ -539,11 +539,14 @@ mod tests {
         let rendered = job.join("rendered.part");
         sample_part(&rendered, 0, 1, 5);
         assert!(promote_part(&job, &manifest, 0, &rendered).expect("promote"));
-        let first = std::fs::read(part_path(&job, 0)).expect("part");
+        let first = crate::io::input::read_file(&part_path(&job, 0)).expect("part");
         // A later worker's part of the same task is dropped, not written over the first.
         sample_part(&rendered, 0, 1, 7);
         assert!(!promote_part(&job, &manifest, 0, &rendered).expect("promote"));
-        assert_eq!(std::fs::read(part_path(&job, 0)).expect("part"), first);
+        assert_eq!(
+            crate::io::input::read_file(&part_path(&job, 0)).expect("part"),
+            first
+        );
         // A part of another range is not the task's.
         assert!(promote_part(&job, &manifest, 1, &rendered).is_err());
         let _ = std::fs::remove_dir_all(&job);
