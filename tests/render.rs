@@ -68,7 +68,7 @@ fn closed_sphere_direct_light_is_exactly_half() {
 fn cornell_path_tracer_matches_the_converged_reference() {
     // 64×64 with a box filter estimates exactly the 8×8 block means of the 512×512 reference.
     let reference = read_image(&common::shared_dir().join("scenes/cornell-box/reference.exr"))
-        .expect("reference.exr in ../shared");
+        .expect("reference.exr in tests/fixtures/shared");
     let reference = reference.downsample(8).expect("512 divides by 8");
     let img = run(
         "cornell",

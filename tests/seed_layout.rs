@@ -1,5 +1,5 @@
 //! The `seed` scene frames the original project's scene as its final image did
-//! (../shared/seed/final.png): same camera, walls, boxes and spheres in the same places.
+//! (tests/fixtures/shared/seed/final.png): same camera, walls, boxes and spheres in the same places.
 
 mod common;
 
@@ -31,7 +31,7 @@ fn hue(r: f32, g: f32, b: f32) -> Hue {
 #[test]
 fn seed_scene_matches_the_original_layout() {
     let original = image::open(common::shared_dir().join("seed/final.png"))
-        .expect("final.png in ../shared/seed")
+        .expect("final.png in tests/fixtures/shared/seed")
         .to_rgb8();
     let scene = builtin::load("seed").expect("builds");
     let settings = RenderSettings {

@@ -32,9 +32,11 @@ pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// `../shared/` beside the repository (CI provides it).
+/// The project's own data the tests compare with, committed under `tests/fixtures/shared/`:
+/// the original project's image and scene (`seed/`) and the Cornell box's converged
+/// reference (`scenes/cornell-box/reference.exr`).
 pub fn shared_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/shared")
 }
 
 /// A fresh, empty directory for one test's files, under the system temp dir. The first call
