@@ -1,6 +1,6 @@
-//! `photon._photon`: the Python face of the Photon library. Every render goes through
-//! `photon::render_job::RenderJob`, the call the command line makes, so `photon.render` and
-//! `photon render` give the same image for the same settings, bit for bit.
+//! `photon_render._photon`: the Python face of the Photon library. Every render goes through
+//! `photon::render_job::RenderJob`, the call the command line makes, so `photon_render.render`
+//! and `photon render` give the same image for the same settings, bit for bit.
 //!
 //! Rendering runs on a worker thread with the GIL released; the calling thread wakes every
 //! 50 ms to let Python handle signals, and a KeyboardInterrupt sets the render's cancel flag
@@ -21,7 +21,7 @@ use std::sync::{Arc, Condvar, Mutex};
 use std::time::Duration;
 
 pyo3::create_exception!(
-    _photon,
+    photon_render,
     PhotonError,
     PyValueError,
     "A scene, setting or file Photon cannot use; the message names the file, line and column where it can."
@@ -160,7 +160,7 @@ fn image_array<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyAny
 }
 
 /// A scene, loaded from a built-in name, a .toml, .gltf or .glb file.
-#[pyclass(frozen, module = "photon")]
+#[pyclass(frozen, module = "photon_render")]
 struct Scene {
     inner: Arc<photon::scene::Scene>,
     spec: RenderSpec,
@@ -259,7 +259,7 @@ fn render<'py>(
 /// A progressive render (sppm or ppm) as an iterator of images, one after each pass. A
 /// KeyboardInterrupt abandons the pass in flight; the completed passes stay, and iterating
 /// again continues from them.
-#[pyclass(module = "photon")]
+#[pyclass(module = "photon_render")]
 struct Progressive {
     scene: Arc<photon::scene::Scene>,
     state: ProgressiveState,
@@ -300,7 +300,7 @@ impl Progressive {
     }
 }
 
-/// `photon.progressive(scene, passes=64, integrator="sppm", ...)`: see the module.
+/// `photon_render.progressive(scene, passes=64, integrator="sppm", ...)`: see the module.
 #[pyfunction]
 #[pyo3(signature = (scene, *, threads = None, **kwargs))]
 fn progressive(
@@ -340,7 +340,7 @@ fn progressive(
 }
 
 /// Traced photon maps: `caustic` and `global` maps of photons with NumPy views.
-#[pyclass(frozen, module = "photon")]
+#[pyclass(frozen, module = "photon_render")]
 struct PhotonMaps {
     inner: Arc<photon::photon::PhotonMaps>,
 }

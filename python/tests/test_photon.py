@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import photon
+import photon_render
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -98,7 +98,7 @@ def test_render_equals_the_command_line_bit_for_bit(scene_file, tmp_path, option
         check=True,
         capture_output=True,
     )
-    image, aovs = photon.render(photon.load_scene(scene_file), **options)
+    image, aovs = photon_render.render(photon_render.load_scene(scene_file), **options)
     assert image.dtype == np.float32 and image.shape == (24, 32, 3)
     cli = read_pfm(out)
     assert np.array_equal(image, cli), f"max difference {np.abs(image - cli).max()}"
@@ -106,9 +106,9 @@ def test_render_equals_the_command_line_bit_for_bit(scene_file, tmp_path, option
 
 
 def test_aovs_and_threads(scene_file):
-    scene = photon.load_scene(scene_file)
-    one, aovs = photon.render(scene, integrator="photon", spp=2, photons=20000, threads=1)
-    two, _ = photon.render(scene, integrator="photon", spp=2, photons=20000, threads=2)
+    scene = photon_render.load_scene(scene_file)
+    one, aovs = photon_render.render(scene, integrator="photon", spp=2, photons=20000, threads=1)
+    two, _ = photon_render.render(scene, integrator="photon", spp=2, photons=20000, threads=2)
     assert np.array_equal(one, two), "the image must not depend on the thread count"
     assert set(aovs) == {"direct", "caustic", "indirect", "albedo", "normal"}
     # The photon integrator's beauty is the sum of its three parts.
@@ -121,29 +121,29 @@ def test_aovs_and_threads(scene_file):
 def test_errors_are_photon_errors_with_file_line_and_column(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nradus = 2\n")
-    with pytest.raises(photon.PhotonError, match=r"bad\.toml:4:1: unknown key 'radus'"):
-        photon.load_scene(bad)
-    scene = photon.load_scene("cornell")
-    with pytest.raises(photon.PhotonError, match="unknown field `spp2`"):
-        photon.render(scene, spp2=4)
-    with pytest.raises(photon.PhotonError, match="give passes or a time"):
-        photon.render(scene, integrator="sppm")
-    assert issubclass(photon.PhotonError, ValueError)
+    with pytest.raises(photon_render.PhotonError, match=r"bad\.toml:4:1: unknown key 'radus'"):
+        photon_render.load_scene(bad)
+    scene = photon_render.load_scene("cornell")
+    with pytest.raises(photon_render.PhotonError, match="unknown field `spp2`"):
+        photon_render.render(scene, spp2=4)
+    with pytest.raises(photon_render.PhotonError, match="give passes or a time"):
+        photon_render.render(scene, integrator="sppm")
+    assert issubclass(photon_render.PhotonError, ValueError)
 
 
 def test_progressive_yields_an_image_per_pass_ending_at_the_single_render(scene_file):
-    scene = photon.load_scene(scene_file)
+    scene = photon_render.load_scene(scene_file)
     options = dict(integrator="ppm", passes=4, photons_per_pass=5000)
-    images = list(photon.progressive(scene, **options))
+    images = list(photon_render.progressive(scene, **options))
     assert len(images) == 4
-    final, _ = photon.render(scene, **options)
+    final, _ = photon_render.render(scene, **options)
     assert np.array_equal(images[-1], final)
     assert not np.array_equal(images[0], images[-1])
 
 
 def test_photon_maps_as_arrays_and_phm_files(tmp_path):
-    scene = photon.load_scene("cornell")
-    maps = photon.trace_photons(scene, photons=20000, caustic_photons=40000)
+    scene = photon_render.load_scene("cornell")
+    maps = photon_render.trace_photons(scene, photons=20000, caustic_photons=40000)
     n_global, n_caustic = maps.counts
     arrays = maps.arrays("global")
     assert arrays["positions"].shape == (n_global, 3)
@@ -156,7 +156,7 @@ def test_photon_maps_as_arrays_and_phm_files(tmp_path):
     assert maps.arrays("caustic")["positions"].shape == (n_caustic, 3)
     path = tmp_path / "m.phm"
     maps.save(path)
-    again = photon.load_photons(path)
+    again = photon_render.load_photons(path)
     assert again.counts == maps.counts
     assert np.array_equal(again.arrays()["positions"], arrays["positions"])
     out = subprocess.run(
@@ -166,7 +166,7 @@ def test_photon_maps_as_arrays_and_phm_files(tmp_path):
 
 
 def test_the_gil_is_released_while_rendering():
-    scene = photon.load_scene("cornell")
+    scene = photon_render.load_scene("cornell")
     ticks = 0
     done = threading.Event()
 
@@ -178,7 +178,7 @@ def test_the_gil_is_released_while_rendering():
 
     t = threading.Thread(target=count)
     t.start()
-    photon.render(scene, integrator="path", spp=16, width=96, height=96)
+    photon_render.render(scene, integrator="path", spp=16, width=96, height=96)
     done.set()
     t.join()
     assert ticks > 5, "another Python thread must run while Photon renders"
@@ -193,28 +193,28 @@ def test_keyboard_interrupt_cancels_a_render_cleanly():
     # render would run its minutes to the end. Install Python's own handler for this test.
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
-        scene = photon.load_scene("cornell")
+        scene = photon_render.load_scene("cornell")
         timer = threading.Timer(0.3, _thread.interrupt_main)
         timer.start()
         with pytest.raises(KeyboardInterrupt):
             # Minutes of work if it were not cancelled.
-            photon.render(scene, integrator="path", spp=4096, width=256, height=256)
+            photon_render.render(scene, integrator="path", spp=4096, width=256, height=256)
         timer.join()
     finally:
         signal.signal(signal.SIGINT, previous)
     # Photon is still usable afterwards.
-    image, _ = photon.render(scene, integrator="path", spp=1, width=8, height=8)
+    image, _ = photon_render.render(scene, integrator="path", spp=1, width=8, height=8)
     assert image.shape == (8, 8, 3)
 
 
 def test_scene_to_toml_round_trips(tmp_path):
-    scene = photon.load_scene("cornell")
+    scene = photon_render.load_scene("cornell")
     text = scene.to_toml(tmp_path)
     path = tmp_path / "c.toml"
     path.write_text(text)
-    again = photon.load_scene(path)
-    a, _ = photon.render(scene, integrator="path", spp=2, width=16, height=16)
-    b, _ = photon.render(again, integrator="path", spp=2, width=16, height=16)
+    again = photon_render.load_scene(path)
+    a, _ = photon_render.render(scene, integrator="path", spp=2, width=16, height=16)
+    b, _ = photon_render.render(again, integrator="path", spp=2, width=16, height=16)
     assert np.array_equal(a, b)
     assert "cornell" in repr(scene)
 
@@ -225,9 +225,9 @@ def test_keyboard_interrupt_keeps_the_completed_passes():
 
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
-        scene = photon.load_scene("cornell")
+        scene = photon_render.load_scene("cornell")
         # Passes of seconds each; the interrupt lands in the second one.
-        it = photon.progressive(
+        it = photon_render.progressive(
             scene, integrator="sppm", passes=4, width=16, height=16, photons_per_pass=4_000_000
         )
         first = next(it)
@@ -253,24 +253,24 @@ def test_keyboard_interrupt_keeps_the_completed_passes():
 )
 @pytest.mark.parametrize("value", [float("nan"), float("inf"), float("-inf")])
 def test_non_finite_options_are_refused_by_name(option, value):
-    scene = photon.load_scene("cornell")
-    with pytest.raises(photon.PhotonError, match=option):
+    scene = photon_render.load_scene("cornell")
+    with pytest.raises(photon_render.PhotonError, match=option):
         options = {"integrator": "path", "spp": 1, "width": 4, "height": 4}
         options[option] = value
-        photon.render(scene, **options)
+        photon_render.render(scene, **options)
 
 
 @pytest.mark.parametrize("threads", [-1, 2**70, 1.5, 257, True])
 def test_bad_thread_counts_are_photon_errors(threads):
-    scene = photon.load_scene("cornell")
-    with pytest.raises(photon.PhotonError, match="threads"):
-        photon.render(scene, integrator="path", spp=1, width=4, height=4, threads=threads)
-    with pytest.raises(photon.PhotonError, match="threads"):
-        photon.progressive(scene, passes=1, width=4, height=4, threads=threads)
-    with pytest.raises(photon.PhotonError, match="threads"):
-        photon.trace_photons(scene, photons=1000, threads=threads)
-    with pytest.raises(photon.PhotonError, match="photons"):
-        photon.trace_photons(scene, photons=-1)
+    scene = photon_render.load_scene("cornell")
+    with pytest.raises(photon_render.PhotonError, match="threads"):
+        photon_render.render(scene, integrator="path", spp=1, width=4, height=4, threads=threads)
+    with pytest.raises(photon_render.PhotonError, match="threads"):
+        photon_render.progressive(scene, passes=1, width=4, height=4, threads=threads)
+    with pytest.raises(photon_render.PhotonError, match="threads"):
+        photon_render.trace_photons(scene, photons=1000, threads=threads)
+    with pytest.raises(photon_render.PhotonError, match="photons"):
+        photon_render.trace_photons(scene, photons=-1)
 
 
 @pytest.mark.parametrize(
@@ -283,18 +283,18 @@ def test_bad_thread_counts_are_photon_errors(threads):
     ],
 )
 def test_zero_passes_are_refused(options):
-    scene = photon.load_scene("cornell")
-    with pytest.raises(photon.PhotonError, match="pass"):
-        photon.render(scene, width=4, height=4, **options)
-    with pytest.raises(photon.PhotonError, match="pass"):
-        photon.progressive(scene, width=4, height=4, **options)
+    scene = photon_render.load_scene("cornell")
+    with pytest.raises(photon_render.PhotonError, match="pass"):
+        photon_render.render(scene, width=4, height=4, **options)
+    with pytest.raises(photon_render.PhotonError, match="pass"):
+        photon_render.progressive(scene, width=4, height=4, **options)
 
 
 def test_a_time_budget_shorter_than_a_pass_renders_one():
-    scene = photon.load_scene("cornell")
+    scene = photon_render.load_scene("cornell")
     options = dict(integrator="sppm", time=1e-9, width=8, height=8, photons_per_pass=1000)
-    image, _ = photon.render(scene, **options)
+    image, _ = photon_render.render(scene, **options)
     assert image.max() > 0.0
-    it = photon.progressive(scene, **options)
+    it = photon_render.progressive(scene, **options)
     assert len(list(it)) == 1
     assert it.passes == 1

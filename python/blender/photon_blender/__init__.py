@@ -1,6 +1,6 @@
 """Photon as a Blender render engine.
 
-Install the `photon` Python module into Blender's Python (see README.md, "Blender"), then
+Install the `photon_render` Python module into Blender's Python (see README.md, "Blender"), then
 install this folder as an add-on. Pick "Photon" as the render engine; F12 renders.
 
 How the Blender scene becomes a Photon scene:
@@ -264,14 +264,14 @@ class PhotonRenderEngine(bpy.types.RenderEngine):
 
     def render_photon(self, depsgraph, shown):
         import numpy as np
-        import photon
+        import photon_render
 
         settings = depsgraph.scene.photon
         with tempfile.TemporaryDirectory(prefix="photon-blender-") as tmp:
             path, (w, h) = export_scene(
                 depsgraph, tmp, lambda m: self.report({"WARNING"}, m)
             )
-            scene = photon.load_scene(path)
+            scene = photon_render.load_scene(path)
             for warning in scene.warnings:
                 self.report({"WARNING"}, warning)
         o = options(settings)
@@ -286,7 +286,7 @@ class PhotonRenderEngine(bpy.types.RenderEngine):
 
         if settings.integrator in ("sppm", "ppm"):
             image = None
-            for i, image in enumerate(photon.progressive(scene, threads=threads, **o)):
+            for i, image in enumerate(photon_render.progressive(scene, threads=threads, **o)):
                 self.update_progress((i + 1) / settings.passes)
                 self.update_stats("", f"Photon: pass {i + 1}/{settings.passes}")
                 if self.test_break():
@@ -297,7 +297,7 @@ class PhotonRenderEngine(bpy.types.RenderEngine):
                 show(image)
         else:
             self.update_stats("", "Photon: rendering")
-            image, _ = photon.render(scene, threads=threads, **o)
+            image, _ = photon_render.render(scene, threads=threads, **o)
             show(image)
 
 

@@ -1,4 +1,4 @@
-"""Type stubs of the compiled module (see photon/__init__.py for the overview)."""
+"""Type stubs of the compiled module (see photon_render/__init__.py for the overview)."""
 
 from os import PathLike
 from typing import Iterator, Literal, TypedDict

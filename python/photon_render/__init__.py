@@ -3,16 +3,16 @@
 Every render goes through the library call the ``photon`` command line makes, so the same
 scene and settings give the same image, bit for bit::
 
-    import photon
-    scene = photon.load_scene("cornell")          # or a .toml, .gltf or .glb file
-    image, aovs = photon.render(scene, integrator="path", spp=64)
-    image.shape                                   # (512, 512, 3), float32, linear RGB
+    import photon_render
+    scene = photon_render.load_scene("cornell")   # or a .toml, .gltf or .glb file
+    image, aovs = photon_render.render(scene, integrator="path", spp=64)
+    image.shape                                    # (512, 512, 3), float32, linear RGB
 
-    for image in photon.progressive(scene, passes=16):   # sppm, an image after each pass
+    for image in photon_render.progressive(scene, passes=16):   # sppm, an image per pass
         ...
 
-    maps = photon.trace_photons(scene, photons=1_000_000)
-    maps.arrays("global")["positions"]            # (N, 3) float32
+    maps = photon_render.trace_photons(scene, photons=1_000_000)
+    maps.arrays("global")["positions"]             # (N, 3) float32
 
 Errors in scenes and settings raise :class:`PhotonError` with the file, line and column.
 Ctrl-C (KeyboardInterrupt) stops a render cleanly.
