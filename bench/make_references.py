@@ -3,7 +3,7 @@
 
     cargo build --release
     pip install mitsuba numpy        # only for reading and writing EXR files here
-    python bench/make_references.py --cornell ../shared/scenes/cornell-box/reference.exr
+    python bench/make_references.py --cornell tests/fixtures/shared/scenes/cornell-box/reference.exr
     python bench/make_references.py --seed-seconds 420
 
 - cornell.exr: the shared Cornell box reference (Mitsuba 3.9 path tracer, 16384 spp), stored

@@ -1,7 +1,8 @@
 //! Ray-casting benchmark: camera, bounce and shadow rays per second on a 102k-triangle mesh
 //! inside a closed box, on one thread and on all threads (`photon::bench::micro::rays`; also
-//! part of `photon bench`). Run with `cargo bench --bench rays`. Compare with
-//! ../shared/design/crates.md (Embree: 10 M camera, 4.0 M bounce rays/s on one core).
+//! part of `photon bench`). Run with `cargo bench --bench rays`. For scale: Embree 3 cast
+//! 10 M camera and 4.0 M bounce rays/s on one core of a 2-core laptop-class machine, on a
+//! 115k-triangle mesh.
 
 //! Every engine compiled in is measured: our BVH, and Embree with `--features embree`.
 

@@ -1,7 +1,7 @@
 //! Image error metrics used to validate renders against references.
 //!
-//! relMSE = mean over pixels of (a − b)² / (b² + 0.01), the measure used in
-//! ../shared/scenes/cornell-box/README.md for every peer renderer.
+//! relMSE = mean over pixels of (a − b)² / (b² + 0.01), the measure the Cornell box
+//! reference's peer renderers (Mitsuba 3, pbrt-v4, POV-Ray) were compared by.
 
 use crate::film::Image;
 

@@ -3,6 +3,8 @@
 //! The library holds everything that renders; the `photon` binary is a thin command line over
 //! it. See ARCHITECTURE.md for the map of modules, the data flow and the invariants.
 
+#![forbid(unsafe_code)]
+
 pub mod accel;
 pub mod bench;
 pub mod camera;

@@ -1,6 +1,8 @@
 //! The `photon` command line: arguments, progress and messages over the library.
 //! Every error becomes `error: …` on stderr and exit code 2.
 
+#![forbid(unsafe_code)]
+
 mod cli;
 
 use clap::Parser;

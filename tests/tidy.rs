@@ -153,23 +153,98 @@ fn code_of(text: &str) -> String {
         .join("\n")
 }
 
-/// The names after each `prefix` in `code`: `crate::scene::X` gives `scene`.
-fn paths_after<'a>(code: &'a str, prefix: &str) -> Vec<&'a str> {
-    code.match_indices(prefix)
+/// A use tree parsed from `code` at `at`: the paths it names, each as its segments.
+/// `a::{b, c::{d, e as f}, *}` gives `a::b`, `a::c::d`, `a::c::e`, `a::*`.
+fn use_tree(code: &str, mut at: usize) -> (Vec<Vec<String>>, usize) {
+    let bytes = code.as_bytes();
+    let skip_space = |mut at: usize| {
+        while at < bytes.len() && bytes[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        at
+    };
+    let is_ident = |b: u8| b.is_ascii_alphanumeric() || b == b'_';
+    at = skip_space(at);
+    if bytes.get(at) == Some(&b'{') {
+        // A group: trees separated by commas, up to the matching brace.
+        let mut paths = Vec::new();
+        at += 1;
+        loop {
+            at = skip_space(at);
+            match bytes.get(at) {
+                None => return (paths, at),
+                Some(b'}') => return (paths, at + 1),
+                Some(b',') => at += 1,
+                Some(_) => {
+                    let (inner, next) = use_tree(code, at);
+                    paths.extend(inner);
+                    // Past what the tree leaves (`as name`), to the next item or the end.
+                    at = next;
+                    while at < bytes.len() && !matches!(bytes[at], b',' | b'}' | b'{' | b';') {
+                        at += 1;
+                    }
+                    if matches!(bytes.get(at), Some(b'{' | b';')) {
+                        return (paths, at);
+                    }
+                }
+            }
+        }
+    }
+    let start = at;
+    if bytes.get(at) == Some(&b'*') {
+        at += 1;
+    } else {
+        while at < bytes.len() && is_ident(bytes[at]) {
+            at += 1;
+        }
+    }
+    if at == start {
+        return (vec![Vec::new()], at);
+    }
+    let segment = code[start..at].to_owned();
+    let after = skip_space(at);
+    if code[after..].starts_with("::") {
+        let (rest, end) = use_tree(code, after + 2);
+        let paths = rest
+            .into_iter()
+            .map(|mut p| {
+                p.insert(0, segment.clone());
+                p
+            })
+            .collect();
+        return (paths, end);
+    }
+    (vec![vec![segment]], at)
+}
+
+/// Every path in `code` that starts at the segment `root` (`crate`, `super`), grouped imports
+/// expanded: `use crate::{scene::Scene, io::{image, phm}}` gives `scene::Scene`,
+/// `io::image` and `io::phm`, each as its segments after `root`.
+fn paths_from(code: &str, root: &str) -> Vec<Vec<String>> {
+    let head = format!("{root}::");
+    code.match_indices(&head)
         .filter(|(at, _)| {
-            // A whole path segment: not `my_crate::`.
+            // A path's first segment: not `my_crate::` nor the `super` of `super::super::`.
             !code[..*at]
                 .chars()
                 .next_back()
-                .is_some_and(|c| c.is_alphanumeric() || c == '_')
+                .is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':')
         })
-        .map(|(at, _)| {
-            let rest = &code[at + prefix.len()..];
-            let end = rest
-                .find(|c: char| !(c.is_alphanumeric() || c == '_'))
-                .unwrap_or(rest.len());
-            &rest[..end]
-        })
+        .flat_map(|(at, _)| use_tree(code, at + head.len()).0)
+        .collect()
+}
+
+/// The names after each `prefix` in `code`, grouped imports included: `crate::scene::X` and
+/// `crate::{scene::X, io}` give `scene` (and `io`); `crate::description::` gives the part of
+/// `description` a path names.
+fn paths_after(code: &str, prefix: &str) -> Vec<String> {
+    let mut segments = prefix.trim_end_matches("::").split("::");
+    let root = segments.next().expect("a root");
+    let within: Vec<&str> = segments.collect();
+    paths_from(code, root)
+        .into_iter()
+        .filter(|p| p.len() > within.len() && p.iter().zip(&within).all(|(a, b)| a == b))
+        .map(|p| p[within.len()].clone())
         .filter(|name| !name.is_empty())
         .collect()
 }
@@ -201,7 +276,7 @@ fn layer_violations(root: &Path) -> Vec<String> {
             if used == module {
                 continue;
             }
-            match level(used) {
+            match level(&used) {
                 Some(l) if l < own => {}
                 Some(_) => violations.push(format!(
                     "{}: '{module}' uses '{used}', which is not below it",
@@ -249,7 +324,7 @@ fn description_violations(rel: &Path, code: &str) -> Vec<String> {
     used.into_iter()
         .filter(|u| u != own)
         .filter_map(|u| {
-            let l = order(u)?;
+            let l = order(&u)?;
             (l >= own_level).then(|| {
                 format!(
                     "{}: description/{own} uses description/{u}, which is not below it",
@@ -288,6 +363,30 @@ fn the_layer_check_sees_a_wrong_import() {
         "use crate::scene::Scene; // crate::render is only mentioned\nfn f() { my_crate::x(); crate::io::input::read_file(p); }",
     );
     assert_eq!(paths_after(&code, "crate::"), ["scene", "io"]);
+    // Grouped imports, nested and renamed, count as their paths.
+    let grouped = code_of(
+        "use crate::{\n    math::{Rgb, Vec3},\n    render::{self, render as go}, // a note\n    error::Result,\n};\nuse crate::{film::*};",
+    );
+    assert_eq!(
+        paths_after(&grouped, "crate::"),
+        ["math", "math", "render", "render", "error", "film"]
+    );
+    assert_eq!(
+        paths_after(
+            "use crate::description::{source::Diagnostic, gltf::{self, x}};",
+            "crate::description::"
+        ),
+        ["source", "gltf", "gltf"]
+    );
+    assert_eq!(
+        description_violations(
+            Path::new("description/source.rs"),
+            "use super::{Diagnostic, toml_read::{read_str, values}};"
+        )
+        .len(),
+        2
+    );
+    assert_eq!(paths_after("super::super::math::Vec3", "super::"), ["super"]);
     assert_eq!(
         description_violations(
             Path::new("description/mesh/mod.rs"),
@@ -296,4 +395,110 @@ fn the_layer_check_sees_a_wrong_import() {
         .len(),
         1
     );
+}
+
+/// The modules the binary declares (`mod cli;` in `src/main.rs`): the library is `src/`
+/// without them and without `main.rs`.
+fn binary_modules(root: &Path) -> Vec<String> {
+    let main = std::fs::read_to_string(root.join("src/main.rs")).expect("src/main.rs");
+    code_of(&main)
+        .lines()
+        .filter_map(|l| {
+            let l = l.trim();
+            let l = l.strip_prefix("pub ").unwrap_or(l);
+            l.strip_prefix("mod ")?.strip_suffix(';').map(str::to_owned)
+        })
+        .collect()
+}
+
+fn library_files(root: &Path) -> Vec<PathBuf> {
+    let binary = binary_modules(root);
+    let mut files = Vec::new();
+    rust_files(&root.join("src"), &mut files);
+    files.retain(|f| {
+        let rel = f.strip_prefix(root.join("src")).expect("under src");
+        let first = rel.iter().next().expect("a name").to_string_lossy();
+        let module = first.trim_end_matches(".rs");
+        first != "main.rs" && !binary.iter().any(|b| b == module)
+    });
+    files
+}
+
+/// Where `code` prints or ends the process: the macros that write to stdout or stderr, the
+/// standard streams themselves, and `process::exit`/`abort`.
+fn printing_or_exiting(code: &str) -> Vec<&'static str> {
+    const MACROS: [&str; 5] = ["print!", "println!", "eprint!", "eprintln!", "dbg!"];
+    const CALLS: [&str; 4] = ["process::exit", "process::abort", "io::stdout", "io::stderr"];
+    let whole = |pattern: &str| {
+        code.match_indices(pattern).any(|(at, _)| {
+            !code[..at]
+                .chars()
+                .next_back()
+                .is_some_and(|c| c.is_alphanumeric() || c == '_')
+        })
+    };
+    MACROS
+        .into_iter()
+        .chain(CALLS)
+        .filter(|p| whole(p))
+        .collect()
+}
+
+/// ARCHITECTURE.md: "The library never prints and never exits." Messages go up as values
+/// (`Error`, `Diagnostic`, warnings) and progress as callbacks; the binary and the Python
+/// module decide what a user sees.
+#[test]
+fn the_library_never_prints_or_exits() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    assert_eq!(binary_modules(root), ["cli"]);
+    let files = library_files(root);
+    assert!(files.iter().any(|f| f.ends_with("src/lib.rs")));
+    assert!(!files.iter().any(|f| f.ends_with("src/cli/mod.rs")));
+    let mut found = Vec::new();
+    for f in files {
+        let text = std::fs::read_to_string(&f).expect("reads");
+        for (i, line) in code_of(&text).lines().enumerate() {
+            for what in printing_or_exiting(line) {
+                found.push(format!("{}:{}: {what}: {}", f.display(), i + 1, line.trim()));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "the library prints or exits (return an Error or report through a callback):\n{}",
+        found.join("\n")
+    );
+}
+
+#[test]
+fn the_print_check_sees_a_print() {
+    assert_eq!(printing_or_exiting("println!(\"{x}\");"), ["println!"]);
+    assert_eq!(printing_or_exiting("eprintln!(\"{x}\");"), ["eprintln!"]);
+    assert_eq!(printing_or_exiting("let y = dbg!(x);"), ["dbg!"]);
+    assert_eq!(
+        printing_or_exiting("std::process::exit(2)"),
+        ["process::exit"]
+    );
+    assert_eq!(
+        printing_or_exiting("let _ = writeln!(std::io::stderr(), \"x\");"),
+        ["io::stderr"]
+    );
+    assert!(printing_or_exiting("writeln!(out, \"{x}\")?; let id = std::process::id();").is_empty());
+    assert!(printing_or_exiting(&code_of("/// println!(\"{x}\") in a doc comment")).is_empty());
+}
+
+/// ARCHITECTURE.md: no `unsafe` anywhere. Both crate roots forbid it, so the compiler refuses
+/// an `unsafe` block (and an `#[allow(unsafe_code)]` cannot lift it).
+#[test]
+fn both_crate_roots_forbid_unsafe_code() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for file in ["src/lib.rs", "src/main.rs"] {
+        let text = std::fs::read_to_string(root.join(file)).expect("reads");
+        assert!(
+            code_of(&text)
+                .lines()
+                .any(|l| l.trim() == "#![forbid(unsafe_code)]"),
+            "{file} lacks #![forbid(unsafe_code)]"
+        );
+    }
 }

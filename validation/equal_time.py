@@ -12,7 +12,7 @@ Budgets are met by calibration: a short run measures the fixed cost (photon trac
 the cost per sample, and the real run asks for the samples that fill the budget (`sppm` takes
 `--time` directly). Mitsuba renders passes of 8 samples with their own seeds until the next
 would overrun the budget, and averages them; its first render compiles its kernels and is not
-counted. Times are wall clock on this machine with every core; the table reports the time each
+counted. Times are wall clock on the machine that runs it, with every core; the table reports the time each
 run really took. Needs `pip install mitsuba numpy`.
 """
 

@@ -1,7 +1,7 @@
 //! Triangles in Intel Embree 3 (Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray
 //! Tracing", 2014), the `embree` cargo feature: Debian's `libembree-dev` through the `embree3`
 //! crate. Embree picks SSE, AVX2 or AVX-512 kernels at run time, which a portable Rust build
-//! cannot; it is the physical-limit anchor of `../shared/design/crates.md`.
+//! cannot; it is the measure of what a CPU ray caster can reach.
 //!
 //! Like [`super::Bvh`] it knows no shapes: it takes vertex triples and answers with the
 //! position of the triangle hit, its distance and its barycentrics.

@@ -1,6 +1,7 @@
 //! Micro-benchmarks: rays/s on a 102k-triangle mesh, photons/s on the built-in scenes, and
-//! photon queries/s in the setting of `../shared/design/crates.md` (1 M photons on the walls of
-//! a box, 500k queries of about 50 photons, one core), so figures compare with its table.
+//! photon queries/s in the setting the crates were chosen in (1 M photons on the walls of a
+//! box, 500k queries of about 50 photons, one core), so figures compare with those
+//! measurements (see `benches/photons.rs`).
 
 use crate::accel::RayEngine;
 use crate::camera::{Camera, CameraDesc};

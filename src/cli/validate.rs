@@ -90,8 +90,8 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
             command += &format!(" --integrators {}", names.join(","));
         }
         let report = format!(
-            "# Validation report\n\nWritten by `{command} --report {}` on this machine \
-             ({} threads). Budget: {:?}.\n\nReferences: Mitsuba 3 (see README.md). Mean ratios \
+            "# Validation report\n\nWritten by `{command} --report {}` on {} threads. \
+             Budget: {:?}.\n\nReferences: Mitsuba 3 (see README.md). Mean ratios \
              are per channel; relMSE = mean (a − b)² / (b² + 0.01); the worst region is the \
              cell of a 4×4 grid whose mean luminance is furthest from the reference's.\n\n{text}",
             path.display(),

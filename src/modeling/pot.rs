@@ -1,6 +1,6 @@
 //! The original project's succulent in a pot, modelled the way it was in Blender: a profile
 //! revolved (lathe), given thickness (solidify), smoothed by Catmull–Clark subdivision; a soil
-//! disk; leaves from NURBS patches. Placed per ../shared/seed/SEED-SCENE.md.
+//! disk; leaves from NURBS patches. Placed where the original's Blender file put it.
 
 use super::lathe::{lathe, solidify};
 use super::mesh::PolyMesh;

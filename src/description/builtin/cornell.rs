@@ -1,5 +1,6 @@
-//! The Cornell box validation scene, per ../shared/scenes/cornell-box/SCENE.md (Y up, metres):
-//! the Cornell Program of Computer Graphics' measured geometry, used verbatim.
+//! The Cornell box validation scene (Y up, metres): the Cornell Program of Computer Graphics'
+//! measured geometry, used verbatim, as in the Mitsuba 3 reference
+//! (`tests/fixtures/shared/scenes/cornell-box/reference.exr`).
 
 use crate::description::{
     CameraSpec, EmissionSpec, LightSpec, MaterialSpec, SceneDesc, ShapeKind, ShapeSpec,

@@ -1,4 +1,5 @@
-//! The original project's scene, per ../shared/seed/SEED-SCENE.md (Z up), with the procedural
+//! The original project's scene (Z up), as its Blender file placed it
+//! (`tests/fixtures/shared/seed/seed_scene.glb` is that file's glTF export), with the procedural
 //! plant pot in the front-left corner.
 
 use crate::description::{
