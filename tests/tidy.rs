@@ -386,7 +386,10 @@ fn the_layer_check_sees_a_wrong_import() {
         .len(),
         2
     );
-    assert_eq!(paths_after("super::super::math::Vec3", "super::"), ["super"]);
+    assert_eq!(
+        paths_after("super::super::math::Vec3", "super::"),
+        ["super"]
+    );
     assert_eq!(
         description_violations(
             Path::new("description/mesh/mod.rs"),
@@ -428,7 +431,12 @@ fn library_files(root: &Path) -> Vec<PathBuf> {
 /// standard streams themselves, and `process::exit`/`abort`.
 fn printing_or_exiting(code: &str) -> Vec<&'static str> {
     const MACROS: [&str; 5] = ["print!", "println!", "eprint!", "eprintln!", "dbg!"];
-    const CALLS: [&str; 4] = ["process::exit", "process::abort", "io::stdout", "io::stderr"];
+    const CALLS: [&str; 4] = [
+        "process::exit",
+        "process::abort",
+        "io::stdout",
+        "io::stderr",
+    ];
     let whole = |pattern: &str| {
         code.match_indices(pattern).any(|(at, _)| {
             !code[..at]
@@ -459,7 +467,12 @@ fn the_library_never_prints_or_exits() {
         let text = std::fs::read_to_string(&f).expect("reads");
         for (i, line) in code_of(&text).lines().enumerate() {
             for what in printing_or_exiting(line) {
-                found.push(format!("{}:{}: {what}: {}", f.display(), i + 1, line.trim()));
+                found.push(format!(
+                    "{}:{}: {what}: {}",
+                    f.display(),
+                    i + 1,
+                    line.trim()
+                ));
             }
         }
     }
@@ -483,7 +496,9 @@ fn the_print_check_sees_a_print() {
         printing_or_exiting("let _ = writeln!(std::io::stderr(), \"x\");"),
         ["io::stderr"]
     );
-    assert!(printing_or_exiting("writeln!(out, \"{x}\")?; let id = std::process::id();").is_empty());
+    assert!(
+        printing_or_exiting("writeln!(out, \"{x}\")?; let id = std::process::id();").is_empty()
+    );
     assert!(printing_or_exiting(&code_of("/// println!(\"{x}\") in a doc comment")).is_empty());
 }
 
