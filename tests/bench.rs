@@ -54,7 +54,11 @@ fn bench_records_errors_against_the_reference_and_plots_them() {
     // for its shape and its comparisons, never for which budget did better.
     for run in runs {
         let s = run["samples"].as_str().expect("samples");
-        let passes: u64 = s.split(' ').next().and_then(|n| n.parse().ok()).expect("N passes");
+        let passes: u64 = s
+            .split(' ')
+            .next()
+            .and_then(|n| n.parse().ok())
+            .expect("N passes");
         assert!(passes >= 1, "{s}");
     }
     assert_eq!(record["crossings"].as_array().expect("crossings").len(), 3);

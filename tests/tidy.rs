@@ -278,7 +278,7 @@ fn the_layer_check_sees_a_wrong_import() {
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))
             .expect("ARCHITECTURE.md");
     let layers = layers(&map);
-    assert_eq!(layers[0], ["math", "error"]);
+    assert_eq!(layers[0], ["math", "error", "hash"]);
     assert!(
         layers
             .iter()

@@ -6,20 +6,26 @@
 //! | per pixel: SPPM 8 × f64 (r², N, τ rgb, direct rgb) or PPM 3 × i128 (fixed-point sums)
 //! | FNV-1a 64 checksum of everything before it
 //! ```
-//! All numbers little-endian; written atomically.
+//! [`super::container`]'s layout; written atomically.
 
-use super::image::write_atomically;
+use super::atomic::write_file;
+use super::container::{self, Contents, Format};
 use crate::error::{Error, Result};
 use crate::progressive::state::SppmPixel;
 use crate::progressive::{Method, ProgressiveConfig, ProgressiveState};
-use crate::scene::Fnv1a;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"PHOTONCK";
 /// 2: PPM sums are 128-bit (they were 64-bit and wrapped).
 pub const CHECKPOINT_VERSION: u32 = 2;
-const MAX_HEADER: usize = 1 << 20;
+/// The container of checkpoints and PPM parts.
+const CHECKPOINT: Format = Format {
+    magic: b"PHOTONCK",
+    version: CHECKPOINT_VERSION,
+    fixed_words: 0,
+    max_header: 1 << 20,
+    noun: "checkpoint",
+};
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -79,6 +85,14 @@ fn bad(path: &Path, m: impl Into<String>) -> Error {
     }
 }
 
+/// A pixel's size in the body: SPPM 8 × f64, PPM 3 × i128.
+fn bytes_per_pixel(method: Method) -> usize {
+    match method {
+        Method::Sppm => 64,
+        Method::Ppm => 48,
+    }
+}
+
 pub fn save(state: &ProgressiveState, path: &Path) -> Result<()> {
     save_with(state, &RunInfo::default(), path)
 }
@@ -110,13 +124,8 @@ pub fn save_with(state: &ProgressiveState, info: &RunInfo, path: &Path) -> Resul
         env_rotate: info.env.rotate_deg,
         env_intensity: info.env.intensity,
     };
-    let json = serde_json::to_vec(&header).map_err(|e| bad(path, e.to_string()))?;
-    let mut bytes = Vec::new();
-    bytes.extend_from_slice(MAGIC);
-    bytes.extend_from_slice(&CHECKPOINT_VERSION.to_le_bytes());
-    bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    bytes.extend_from_slice(&json);
-    match c.method {
+    let body_len = bytes_per_pixel(c.method) * c.width as usize * c.height as usize;
+    let bytes = container::encode(&CHECKPOINT, &[], &header, body_len, |out| match c.method {
         Method::Sppm => {
             for p in &state.sppm {
                 for v in [
@@ -129,27 +138,19 @@ pub fn save_with(state: &ProgressiveState, info: &RunInfo, path: &Path) -> Resul
                     p.direct[1],
                     p.direct[2],
                 ] {
-                    bytes.extend_from_slice(&v.to_le_bytes());
+                    out.extend_from_slice(&v.to_le_bytes());
                 }
             }
         }
         Method::Ppm => {
             for p in &state.ppm {
                 for v in p {
-                    bytes.extend_from_slice(&v.to_le_bytes());
+                    out.extend_from_slice(&v.to_le_bytes());
                 }
             }
         }
-    }
-    let mut h = Fnv1a::default();
-    h.write(&bytes);
-    bytes.extend_from_slice(&h.finish().to_le_bytes());
-    write_atomically(path, |tmp| {
-        std::fs::write(tmp, &bytes).map_err(|source| Error::Write {
-            path: path.to_owned(),
-            source,
-        })
-    })
+    });
+    write_file(path, &bytes)
 }
 
 pub fn load(path: &Path) -> Result<ProgressiveState> {
@@ -164,41 +165,18 @@ pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
 
 /// [`load_with`] on bytes in memory; the error is the reason, without the path.
 pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunInfo), String> {
-    if bytes.len() < 24 || &bytes[..8] != MAGIC {
-        return Err("not a Photon checkpoint (bad magic number)".into());
-    }
-    let u32_at =
-        |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
-    let version = u32_at(8);
-    if version != CHECKPOINT_VERSION {
-        return Err(format!(
-            "checkpoint version {version}; this Photon reads {CHECKPOINT_VERSION}"
-        ));
-    }
-    let (body, tail) = bytes.split_at(bytes.len() - 8);
-    let mut h = Fnv1a::default();
-    h.write(body);
-    if h.finish() != u64::from_le_bytes(tail.try_into().expect("8 bytes")) {
-        return Err("checksum mismatch: the checkpoint is truncated or corrupted".into());
-    }
-    let header_len = u32_at(12) as usize;
-    if header_len > MAX_HEADER || 16 + header_len > body.len() {
-        return Err("truncated header".into());
-    }
-    let hd: Header = serde_json::from_slice(&body[16..16 + header_len])
-        .map_err(|e| format!("unreadable header: {e}"))?;
+    let Contents {
+        header: hd,
+        body: data,
+        ..
+    } = container::decode::<Header>(&CHECKPOINT, bytes)?;
     let method = match hd.method.as_str() {
         "sppm" => Method::Sppm,
         "ppm" => Method::Ppm,
         m => return Err(format!("unknown method '{m}'")),
     };
     let pixels = hd.width as usize * hd.height as usize;
-    let per_pixel = match method {
-        Method::Sppm => 64,
-        Method::Ppm => 48,
-    };
-    let data = &body[16 + header_len..];
-    if Some(data.len()) != pixels.checked_mul(per_pixel) {
+    if Some(data.len()) != pixels.checked_mul(bytes_per_pixel(method)) {
         return Err(format!(
             "{} bytes of pixel data for {}×{} pixels",
             data.len(),
