@@ -472,7 +472,7 @@ fn checkpoints_survive_reruns_and_kills() {
     let whole = photon::io::checkpoint::load(&dir.join("whole.checkpoint")).expect("loads");
     assert_eq!(resumed.passes, whole.passes);
     assert!(
-        resumed.ppm == whole.ppm,
+        resumed.pixels == whole.pixels,
         "a resumed run differs from an uninterrupted one"
     );
 }

@@ -104,7 +104,10 @@ fn light_transport_never_matches_on_a_material_or_light_kind() {
 
 #[test]
 fn the_kind_check_sees_a_named_kind() {
-    assert!(names_a_kind("Light::Area(l) => l.pdf_li(p, q, n),", "Light"));
+    assert!(names_a_kind(
+        "Light::Area(l) => l.pdf_li(p, q, n),",
+        "Light"
+    ));
     assert!(names_a_kind("if let Material::Mirror(_) = m {", "Material"));
     assert!(!names_a_kind("LightSample::new()", "Light"));
     assert!(!names_a_kind("EnvironmentLight::pdf", "Light"));

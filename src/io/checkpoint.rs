@@ -11,8 +11,8 @@
 use super::atomic::write_file;
 use super::container::{self, Contents, Format};
 use crate::error::{Error, Result};
-use crate::progressive::state::SppmPixel;
-use crate::progressive::{Method, ProgressiveConfig, ProgressiveState};
+use crate::film::FixedRgb;
+use crate::progressive::{Method, Pixels, ProgressiveConfig, ProgressiveState, SppmPixel};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -125,27 +125,29 @@ pub fn save_with(state: &ProgressiveState, info: &RunInfo, path: &Path) -> Resul
         env_intensity: info.env.intensity,
     };
     let body_len = bytes_per_pixel(c.method) * c.width as usize * c.height as usize;
-    let bytes = container::encode(&CHECKPOINT, &[], &header, body_len, |out| match c.method {
-        Method::Sppm => {
-            for p in &state.sppm {
-                for v in [
-                    p.r2,
-                    p.n,
-                    p.tau[0],
-                    p.tau[1],
-                    p.tau[2],
-                    p.direct[0],
-                    p.direct[1],
-                    p.direct[2],
-                ] {
-                    out.extend_from_slice(&v.to_le_bytes());
+    let bytes = container::encode(&CHECKPOINT, &[], &header, body_len, |out| {
+        match &state.pixels {
+            Pixels::Sppm(pixels) => {
+                for p in pixels {
+                    for v in [
+                        p.r2,
+                        p.n,
+                        p.tau[0],
+                        p.tau[1],
+                        p.tau[2],
+                        p.direct[0],
+                        p.direct[1],
+                        p.direct[2],
+                    ] {
+                        out.extend_from_slice(&v.to_le_bytes());
+                    }
                 }
             }
-        }
-        Method::Ppm => {
-            for p in &state.ppm {
-                for v in p {
-                    out.extend_from_slice(&v.to_le_bytes());
+            Pixels::Ppm(pixels) => {
+                for p in pixels {
+                    for v in p.0 {
+                        out.extend_from_slice(&v.to_le_bytes());
+                    }
                 }
             }
         }
@@ -198,7 +200,6 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
         light_samples: hd.light_samples,
     };
     config.validate().map_err(|e| e.to_string())?;
-    let f64_at = |at: usize| f64::from_le_bytes(data[at..at + 8].try_into().expect("8 bytes"));
     let info = RunInfo {
         output: hd.output.map(std::path::PathBuf::from),
         target_passes: hd.target_passes,
@@ -209,21 +210,12 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
             intensity: hd.env_intensity,
         },
     };
-    let mut state = ProgressiveState {
-        config,
-        scene_name: hd.scene,
-        scene_hash,
-        first_pass: hd.first_pass,
-        passes: hd.passes,
-        sppm: Vec::new(),
-        ppm: Vec::new(),
-        buffers: Default::default(),
-    };
-    match method {
-        Method::Sppm => {
-            state.sppm = (0..pixels)
-                .map(|i| {
-                    let v = |k: usize| f64_at(i * 64 + k * 8);
+    let pixels = match method {
+        Method::Sppm => Pixels::Sppm(
+            data.chunks_exact(64)
+                .map(|px| {
+                    let v =
+                        |k: usize| f64::from_le_bytes(px[k * 8..k * 8 + 8].try_into().expect("8"));
                     SppmPixel {
                         r2: v(0),
                         n: v(1),
@@ -231,22 +223,27 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
                         direct: [v(5), v(6), v(7)],
                     }
                 })
-                .collect();
-        }
-        Method::Ppm => {
-            state.ppm = (0..pixels)
-                .map(|i| {
+                .collect(),
+        ),
+        Method::Ppm => Pixels::Ppm(
+            data.chunks_exact(48)
+                .map(|px| {
                     let v = |k: usize| {
-                        i128::from_le_bytes(
-                            data[i * 48 + k * 16..i * 48 + k * 16 + 16]
-                                .try_into()
-                                .expect("16"),
-                        )
+                        i128::from_le_bytes(px[k * 16..k * 16 + 16].try_into().expect("16"))
                     };
-                    [v(0), v(1), v(2)]
+                    FixedRgb([v(0), v(1), v(2)])
                 })
-                .collect();
-        }
-    }
+                .collect(),
+        ),
+    };
+    let state = ProgressiveState {
+        config,
+        scene_name: hd.scene,
+        scene_hash,
+        first_pass: hd.first_pass,
+        passes: hd.passes,
+        pixels,
+        buffers: Default::default(),
+    };
     Ok((state, info))
 }

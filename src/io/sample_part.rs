@@ -13,6 +13,7 @@
 use super::atomic::write_file;
 use super::container::{self, Contents, Format};
 use crate::error::{Error, Result};
+use crate::film::FixedRgb;
 use crate::render::{MAX_RESOLUTION, SampleSums};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -96,7 +97,7 @@ pub fn save(sums: &SampleSums, origin: &PartOrigin, path: &Path) -> Result<()> {
     };
     let bytes = container::encode(&SAMPLE_PART, &[], &header, sums.sums.len() * 24, |out| {
         for (sum, count) in &sums.sums {
-            for &v in sum {
+            for &v in &sum.0 {
                 put_varint(out, v);
             }
             put_varint(out, i128::from(*count));
@@ -152,7 +153,7 @@ pub fn decode(bytes: &[u8]) -> Result<(SampleSums, PartOrigin), String> {
         }
         let count = get_varint(data, &mut at).ok_or_else(truncated)?;
         let count = u32::try_from(count).map_err(|_| truncated())?;
-        sums.push((sum, count));
+        sums.push((FixedRgb(sum), count));
     }
     if at != data.len() {
         return Err("trailing bytes after the pixel data".into());

@@ -15,4 +15,6 @@
 
 pub mod state;
 
-pub use state::{Method, PassSeconds, PassStats, ProgressiveConfig, ProgressiveState};
+pub use state::{
+    Method, PassSeconds, PassStats, Pixels, ProgressiveConfig, ProgressiveState, SppmPixel,
+};
