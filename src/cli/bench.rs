@@ -277,5 +277,5 @@ fn read_record(path: &Path) -> Result<Record> {
 }
 
 fn write_text(path: &Path, text: &str) -> Result<()> {
-    write_file(path, &text).with_context(|| format!("writing {}", path.display()))
+    write_file(path, text).with_context(|| format!("writing {}", path.display()))
 }

@@ -249,7 +249,7 @@ fn is_worth_a_retry(e: &anyhow::Error) -> bool {
 
 /// Leave `message` in the task's `I.failed` for `job status`.
 fn record_failure(failed: &Path, message: &str) {
-    let _ = photon::io::atomic::write_file(failed, &message);
+    let _ = photon::io::atomic::write_file(failed, message);
 }
 
 fn run_task(a: &RunArgs) -> Result<()> {

@@ -13,7 +13,7 @@ pub struct Part<'a> {
 }
 
 fn write_text(path: &Path, text: &str) -> Result<()> {
-    write_file(path, &text)
+    write_file(path, text)
 }
 
 /// OBJ with one `o NAME` per part, positions, smooth vertex normals, and polygon faces.

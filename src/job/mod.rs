@@ -493,7 +493,7 @@ mod tests {
             spp: 2,
             samples,
             splits_components: false,
-            sums: vec![([value; 3], samples)],
+            sums: vec![(crate::film::FixedRgb([value; 3]), samples)],
         };
         let origin = crate::io::sample_part::PartOrigin {
             scene: "cornell".into(),
