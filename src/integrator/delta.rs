@@ -2,7 +2,7 @@
 //! branch of its delta lobes near the camera, along one sampled direction beyond.
 
 use super::ShadingPoint;
-use crate::material::{Part, TransportMode};
+use crate::material::{Material, Part, TransportMode};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::Sampler;
 
@@ -69,5 +69,28 @@ pub(crate) fn smooth_branches<R: Sampler + ?Sized>(
     SmoothBranches {
         split: false,
         branches: [sampled, None],
+    }
+}
+
+/// Probability that a camera path stops at a material rather than going on through its
+/// smooth part: 1 with only a rough part (or when it may go no further), 0 with only a smooth
+/// part, else the rough part's share of the albedo seen from `wo`, kept within [0.1, 0.9] so
+/// neither choice is starved. The one rule for a coat over a rough base: the progressive
+/// methods' camera paths stop there with this probability (their visible point), and the
+/// photon integrator's, which take the rough part at every point, go on along the coat with
+/// the rest (Russian roulette).
+pub(crate) fn stop_probability(m: &Material, wo: Vec3, may_go_on: bool) -> f32 {
+    match (m.has(Part::Rough), m.has(Part::Smooth) && may_go_on) {
+        (true, false) => 1.0,
+        (false, _) => 0.0,
+        (true, true) => {
+            let rough = m.part_weight(wo, Part::Rough);
+            let smooth = m.part_weight(wo, Part::Smooth);
+            if rough + smooth > 0.0 {
+                (rough / (rough + smooth)).clamp(0.1, 0.9)
+            } else {
+                0.5
+            }
+        }
     }
 }

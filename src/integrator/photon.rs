@@ -18,7 +18,7 @@
 //!   meets a light adds nothing (that light is direct or caustic). With `gather_rays = 0` the
 //!   global map is read at x instead, leaving out its direct photons.
 
-use super::delta::smooth_branches;
+use super::delta::{smooth_branches, stop_probability};
 use super::lighting::{direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::{Part, TransportMode};
@@ -279,12 +279,12 @@ impl PhotonIntegrator {
             if weight == Rgb::ZERO {
                 continue;
             }
-            // Past the first bounce, Russian roulette on a weak coat over a rough base (its
-            // few per cent), which otherwise went on to the maximum depth from every coated
-            // surface. Mirrors and glass, and split branches, always go on; so does a coat
-            // passing half its light or more.
+            // Past the first bounce, Russian roulette on a coat over a rough base (without it
+            // every coated surface went on to the maximum depth): the path goes on with the
+            // probability the progressive methods' camera paths do ([`stop_probability`]).
+            // Mirrors and glass, and split branches, always go on.
             if at.depth >= 1 && !leaving.split && m.has(Part::Rough) {
-                let survive = (2.0 * weight.max_element()).min(1.0);
+                let survive = 1.0 - stop_probability(m, sp.wo_local, true);
                 if survive < 1.0 && (survive <= 0.0 || rng.next_f32() >= survive) {
                     continue;
                 }

@@ -1,7 +1,7 @@
 //! Camera paths to their first rough surface: the "visible points" of progressive photon
 //! mapping (Hachisuka et al. 2008), with the light that needs no photons gathered on the way.
 
-use super::delta::smooth_branches;
+use super::delta::{smooth_branches, stop_probability};
 use super::lighting::{direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, ShadingPoint};
 use crate::material::{Material, Part, TransportMode};
@@ -259,25 +259,6 @@ impl<'a> DeltaWalk<'a> {
             max_depth,
             rng,
             stats,
-        }
-    }
-}
-
-/// Probability that a camera path stops at a material: 1 with only a rough part (or when it
-/// may go no further), 0 with only a smooth part, else the rough part's share of the albedo
-/// seen from `wo`, kept within [0.1, 0.9] so neither choice is starved.
-fn stop_probability(m: &Material, wo: Vec3, may_go_on: bool) -> f32 {
-    match (m.has(Part::Rough), m.has(Part::Smooth) && may_go_on) {
-        (true, false) => 1.0,
-        (false, _) => 0.0,
-        (true, true) => {
-            let rough = m.part_weight(wo, Part::Rough);
-            let smooth = m.part_weight(wo, Part::Smooth);
-            if rough + smooth > 0.0 {
-                (rough / (rough + smooth)).clamp(0.1, 0.9)
-            } else {
-                0.5
-            }
         }
     }
 }
