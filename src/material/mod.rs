@@ -202,16 +202,13 @@ impl Material {
         }
     }
 
-    /// Whether any of the material's lobes belongs to `part`.
+    /// Whether any of the material's lobes belongs to `part`. Every material but `pbr` has
+    /// one lobe (a union of flags), which [`Part::includes`] places with its α.
     #[inline]
     pub fn has(&self, part: Part) -> bool {
         match self {
-            Material::Lambertian(_) => part != Part::Smooth,
-            Material::Mirror(_) | Material::Dielectric(_) | Material::RoughDielectric(_) => {
-                part != Part::Rough
-            }
-            Material::Conductor(m) => part.includes(m.lobes(), m.ggx.narrowest_alpha()),
             Material::Pbr(m) => m.has(part),
+            _ => part.includes(self.lobes(), self.ggx().map_or(0.0, Ggx::narrowest_alpha)),
         }
     }
 
