@@ -13,6 +13,7 @@ pub mod description;
 pub mod error;
 pub mod film;
 pub mod geometry;
+pub mod hash;
 pub mod integrator;
 pub mod io;
 pub mod job;

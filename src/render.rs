@@ -11,7 +11,7 @@
 
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::film::{Image, PixelFilter, stratified_2d};
+use crate::film::{Image, PixelFilter, SampleSum, stratified_2d};
 use crate::integrator::{Integrator, RayStats, Sample};
 use crate::math::Rgb;
 use crate::sampling::Rng;
@@ -242,33 +242,15 @@ fn render_pixel(
     mean
 }
 
-/// Fixed-point scale of sample sums: a resolution of 2⁻⁴⁰ W·m⁻²·sr⁻¹ per sample; a pixel's sum
-/// saturates (never wraps) past 1.5·10²⁶.
-pub const SAMPLE_FIXED: f64 = (1u64 << 40) as f64;
-
 /// Components kept in fixed point: beauty, direct, caustic, indirect.
 const FIXED_COMPONENTS: usize = 4;
 
-/// `v` in fixed point, rounded half away from zero.
-#[inline]
-fn to_fixed(v: f32) -> i128 {
-    let x = f64::from(v) * SAMPLE_FIXED;
-    let r = x + 0.5f64.copysign(x);
-    // The common case in one hardware conversion; `as` saturates beyond i64 and i128.
-    if r.abs() < 9.0e18 {
-        i128::from(r as i64)
-    } else {
-        r as i128
-    }
-}
-
-/// The mean of `count` samples whose fixed-point sum is `sum`: the one formula that both a
-/// render and a merge of partial renders use, so that they agree bit for bit.
-fn mean_of(sum: &[i128; 3], count: u32) -> Rgb {
+/// The mean of `count` samples whose fixed-point sum is `sum` (zero without any).
+fn mean_of(sum: &SampleSum, count: u32) -> Rgb {
     if count == 0 {
         Rgb::ZERO
     } else {
-        Rgb::from_array(sum.map(|v| (v as f64 / SAMPLE_FIXED / f64::from(count)) as f32))
+        sum.mean(f64::from(count))
     }
 }
 
@@ -279,7 +261,7 @@ fn mean_of(sum: &[i128; 3], count: u32) -> Rgb {
 /// summed in fixed point (see the module's note); the albedo and normal AOVs in floats.
 #[derive(Default)]
 struct PixelMean {
-    fixed: [[i128; 3]; FIXED_COMPONENTS],
+    fixed: [SampleSum; FIXED_COMPONENTS],
     floats: [Rgb; 2],
     counts: [u32; 6],
 }
@@ -296,9 +278,7 @@ impl PixelMean {
             self.counts[j] += 1;
             if j < FIXED_COMPONENTS {
                 if v != Rgb::ZERO {
-                    for (sum, c) in self.fixed[j].iter_mut().zip(v.to_array()) {
-                        *sum = sum.saturating_add(to_fixed(c));
-                    }
+                    self.fixed[j].add_finite(v);
                 }
             } else {
                 self.floats[j - FIXED_COMPONENTS] += v;
@@ -343,7 +323,7 @@ pub struct SampleSums {
     /// The beauty is the sum of the direct, caustic and indirect means.
     pub splits_components: bool,
     /// Per pixel (row-major), per component: the sum and the count of finite samples.
-    pub sums: Vec<([i128; 3], u32)>,
+    pub sums: Vec<(SampleSum, u32)>,
 }
 
 impl SampleSums {
@@ -355,7 +335,7 @@ impl SampleSums {
             spp: settings.spp,
             samples: range.end - range.start,
             splits_components,
-            sums: vec![([0; 3], 0); pixels * Self::components_of(splits_components)],
+            sums: vec![(SampleSum::default(), 0); pixels * Self::components_of(splits_components)],
         }
     }
 
@@ -392,9 +372,7 @@ impl SampleSums {
             ));
         }
         for (a, b) in self.sums.iter_mut().zip(&other.sums) {
-            for k in 0..3 {
-                a.0[k] = a.0[k].saturating_add(b.0[k]);
-            }
+            a.0.add(&b.0);
             a.1 = a.1.saturating_add(b.1);
         }
         self.samples = self.samples.saturating_add(other.samples);

@@ -432,7 +432,7 @@ fn nothing_the_user_had_is_overwritten() {
     );
     // A partial file of this host's process that is gone (PID 0x7ffffffe does not run)
     // disappears.
-    let host = photon::io::image::host_name();
+    let host = photon::io::atomic::host_name();
     let stale = dir.join(format!(".x.png.{host}.2147483646.partial"));
     std::fs::write(&stale, b"left by a killed writer").expect("write");
     let o = tiny(&dir, &[]);
@@ -472,7 +472,7 @@ fn checkpoints_survive_reruns_and_kills() {
     let whole = photon::io::checkpoint::load(&dir.join("whole.checkpoint")).expect("loads");
     assert_eq!(resumed.passes, whole.passes);
     assert!(
-        resumed.ppm == whole.ppm,
+        resumed.pixels == whole.pixels,
         "a resumed run differs from an uninterrupted one"
     );
 }

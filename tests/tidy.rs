@@ -60,11 +60,25 @@ fn every_library_file_is_on_the_architecture_map() {
     );
 }
 
-/// The rule ARCHITECTURE.md states for materials: integrators (and the photon and progressive
-/// modules) decide by lobes and parts and call the BSDF; they never name a material kind, so a
-/// new material renders everywhere once it is in `material/`.
+/// Where `line` names a variant of the enum `kind` (`Material::Mirror`, `Light::Area`): the
+/// enum's name as a whole word followed by `::` and a capital.
+fn names_a_kind(line: &str, kind: &str) -> bool {
+    let pattern = format!("{kind}::");
+    line.match_indices(&pattern).any(|(at, _)| {
+        let whole_word = !line[..at]
+            .chars()
+            .next_back()
+            .is_some_and(|c| c.is_alphanumeric() || c == '_');
+        whole_word && line[at + pattern.len()..].starts_with(|c: char| c.is_ascii_uppercase())
+    })
+}
+
+/// The rule ARCHITECTURE.md states for materials and lights: integrators (and the photon and
+/// progressive modules) decide by lobes and parts and call the BSDF, and ask a light for its
+/// samples and densities; they never name a material or light kind, so a new material or
+/// light renders everywhere once it is in `material/` or `light/`.
 #[test]
-fn light_transport_never_matches_on_a_material_kind() {
+fn light_transport_never_matches_on_a_material_or_light_kind() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
     for dir in ["integrator", "photon", "progressive"] {
@@ -75,18 +89,29 @@ fn light_transport_never_matches_on_a_material_kind() {
     for f in files {
         let text = std::fs::read_to_string(&f).expect("reads");
         for (i, line) in text.lines().enumerate() {
-            if let Some(at) = line.find("Material::")
-                && line[at + "Material::".len()..].starts_with(|c: char| c.is_ascii_uppercase())
-            {
+            if names_a_kind(line, "Material") || names_a_kind(line, "Light") {
                 found.push(format!("{}:{}: {}", f.display(), i + 1, line.trim()));
             }
         }
     }
     assert!(
         found.is_empty(),
-        "light transport names material kinds (decide by `lobes()`/`has(Part)` instead):\n{}",
+        "light transport names material or light kinds (decide by `lobes()`/`has(Part)`, \
+         ask the light for `sample_li`/`pdf_li`):\n{}",
         found.join("\n")
     );
+}
+
+#[test]
+fn the_kind_check_sees_a_named_kind() {
+    assert!(names_a_kind(
+        "Light::Area(l) => l.pdf_li(p, q, n),",
+        "Light"
+    ));
+    assert!(names_a_kind("if let Material::Mirror(_) = m {", "Material"));
+    assert!(!names_a_kind("LightSample::new()", "Light"));
+    assert!(!names_a_kind("EnvironmentLight::pdf", "Light"));
+    assert!(!names_a_kind("Light::is_delta(l)", "Light"));
 }
 
 /// The input policy ARCHITECTURE.md states: files the user names are read only through
@@ -353,7 +378,7 @@ fn the_layer_check_sees_a_wrong_import() {
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))
             .expect("ARCHITECTURE.md");
     let layers = layers(&map);
-    assert_eq!(layers[0], ["math", "error"]);
+    assert_eq!(layers[0], ["math", "error", "hash"]);
     assert!(
         layers
             .iter()

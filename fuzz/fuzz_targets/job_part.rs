@@ -11,7 +11,7 @@ fn make_checksum_right(bytes: &mut [u8]) {
         return;
     }
     let (body, tail) = bytes.split_at_mut(bytes.len() - 8);
-    let mut h = photon::scene::Fnv1a::default();
+    let mut h = photon::hash::Fnv1a::default();
     h.write(body);
     tail.copy_from_slice(&h.finish().to_le_bytes());
 }

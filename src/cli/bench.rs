@@ -4,7 +4,8 @@
 use anyhow::{Context, Result, bail};
 use photon::accel::RayEngine;
 use photon::bench::{self, BenchScene, Crossing, Run, micro, plot};
-use photon::io::image::{read_image, write_atomically};
+use photon::io::atomic::write_file;
+use photon::io::image::read_image;
 use photon::render_job::IntegratorKind;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -276,11 +277,5 @@ fn read_record(path: &Path) -> Result<Record> {
 }
 
 fn write_text(path: &Path, text: &str) -> Result<()> {
-    write_atomically(path, |tmp| {
-        std::fs::write(tmp, text).map_err(|source| photon::Error::Write {
-            path: path.to_path_buf(),
-            source,
-        })
-    })
-    .with_context(|| format!("writing {}", path.display()))
+    write_file(path, text).with_context(|| format!("writing {}", path.display()))
 }

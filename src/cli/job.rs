@@ -249,12 +249,7 @@ fn is_worth_a_retry(e: &anyhow::Error) -> bool {
 
 /// Leave `message` in the task's `I.failed` for `job status`.
 fn record_failure(failed: &Path, message: &str) {
-    let _ = photon::io::image::write_atomically(failed, |tmp| {
-        std::fs::write(tmp, message).map_err(|source| photon::Error::Write {
-            path: failed.to_owned(),
-            source,
-        })
-    });
+    let _ = photon::io::atomic::write_file(failed, message);
 }
 
 fn run_task(a: &RunArgs) -> Result<()> {

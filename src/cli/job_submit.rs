@@ -28,12 +28,7 @@ pub fn submit(a: &SubmitArgs) -> Result<()> {
     for (name, text) in [(TASK_SCRIPT, &task), (MERGE_SCRIPT, &merge)] {
         let path = job_dir.join(name);
         std::fs::create_dir_all(path.parent().expect("a folder"))?;
-        photon::io::image::write_atomically(&path, |tmp| {
-            std::fs::write(tmp, text).map_err(|source| photon::Error::Write {
-                path: path.clone(),
-                source,
-            })
-        })?;
+        photon::io::atomic::write_file(&path, text)?;
     }
     if a.dry_run {
         let cd = format!("cd {}", sh_quote(&job_dir.to_string_lossy()));

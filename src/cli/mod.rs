@@ -148,12 +148,7 @@ fn scenes(a: &ScenesArgs) -> Result<()> {
         std::path::absolute(&desc.base_dir)?
     };
     let text = photon::description::toml_write::to_toml(&desc, &dir)?;
-    photon::io::image::write_atomically(out, |tmp| {
-        std::fs::write(tmp, &text).map_err(|source| photon::Error::Write {
-            path: out.clone(),
-            source,
-        })
-    })?;
+    photon::io::atomic::write_file(out, &text)?;
     eprintln!("photon: wrote scene '{}' to {}", desc.name, out.display());
     Ok(())
 }

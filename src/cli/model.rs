@@ -46,7 +46,7 @@ pub fn run(a: &ModelArgs) -> Result<()> {
             a.output.display()
         );
     }
-    photon::io::image::check_writable_path(&a.output)?;
+    photon::io::atomic::check_writable_path(&a.output)?;
     let start = Instant::now();
     let ModelName::Pot = a.model;
     let model = pot(&PotParams {

@@ -131,7 +131,7 @@ fn trace(a: &TraceArgs) -> Result<()> {
         seed: a.seed,
     };
     config.validate()?;
-    photon::io::image::check_writable_path(&a.output)?;
+    photon::io::atomic::check_writable_path(&a.output)?;
     let pool = super::thread_pool(a.threads)?;
     let bar = progress::bar("tracing photons", a.quiet);
     let start = Instant::now();

@@ -384,7 +384,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         if !a.aov.is_empty() {
             bail!("--aov cannot be split: a partial render holds the beauty image only");
         }
-        photon::io::image::check_writable_path(&output)?;
+        photon::io::atomic::check_writable_path(&output)?;
         None
     } else {
         Some(check_writable(&output)?)
@@ -510,7 +510,7 @@ fn run_progressive(
                 output.display()
             );
         }
-        photon::io::image::check_writable_path(&output)?;
+        photon::io::atomic::check_writable_path(&output)?;
     } else {
         check_writable(&output)?;
     }

@@ -98,13 +98,8 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
             pool.current_num_threads(),
             budget
         );
-        photon::io::image::write_atomically(path, |tmp| {
-            std::fs::write(tmp, &report).map_err(|source| photon::Error::Write {
-                path: path.clone(),
-                source,
-            })
-        })
-        .with_context(|| format!("writing {}", path.display()))?;
+        photon::io::atomic::write_file(path, &report)
+            .with_context(|| format!("writing {}", path.display()))?;
         eprintln!("photon: wrote {}", path.display());
     }
     Ok(())

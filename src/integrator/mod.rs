@@ -4,7 +4,9 @@
 //! `path` (the unidirectional reference every later integrator is tested against) and
 //! `photon` (Jensen's two-pass photon mapping).
 
+mod delta;
 mod direct;
+mod lighting;
 mod path;
 mod photon;
 mod visible;
@@ -14,9 +16,8 @@ pub use path::PathConfig;
 pub use photon::{PhotonIntegrator, PhotonSettings};
 pub use visible::{CameraPath, VisiblePoint, trace_camera_path};
 
-use crate::light::{Light, LightSample};
-use crate::material::{Material, TransportMode};
-use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
+use crate::material::Material;
+use crate::math::{Frame, Ray, Rgb, Vec3};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Scene};
 
@@ -105,82 +106,5 @@ impl<'a> ShadingPoint<'a> {
             wo_local: frame.to_local(wo),
             ng: hit.ng_facing(wo),
         }
-    }
-}
-
-/// Unoccluded contribution f·L·|cos|/pdf of one light sample, before any MIS weight; zero if
-/// the light is hidden. Also returns the BSDF's density for the same direction (for MIS).
-pub(crate) fn light_sample_contribution(
-    scene: &Scene,
-    sp: &ShadingPoint,
-    ls: &LightSample,
-    stats: &mut RayStats,
-) -> Option<(Rgb, f32)> {
-    let wi_local = sp.frame.to_local(ls.wi);
-    let f = sp
-        .material
-        .eval(sp.wo_local, wi_local, TransportMode::Radiance);
-    if f == Rgb::ZERO {
-        return None;
-    }
-    let value = shadowed(scene, sp, ls, f, stats);
-    (value != Rgb::ZERO).then(|| (value, sp.material.pdf(sp.wo_local, wi_local)))
-}
-
-/// f·L·|cos|/pdf of one light sample for the BSDF value `f`, or zero if the light is hidden.
-pub(crate) fn shadowed(
-    scene: &Scene,
-    sp: &ShadingPoint,
-    ls: &LightSample,
-    f: Rgb,
-    stats: &mut RayStats,
-) -> Rgb {
-    if f == Rgb::ZERO {
-        return Rgb::ZERO;
-    }
-    stats.shadow += 1;
-    if !unoccluded(scene, sp.hit, ls) {
-        return Rgb::ZERO;
-    }
-    f * ls.radiance * (sp.frame.n.dot(ls.wi).abs() / ls.pdf)
-}
-
-/// Whether the segment from the shading point to the light sample is free. Both ends are moved
-/// off their surfaces (the light's end toward the shading point), and the ray runs between the
-/// moved ends: reusing the direction and length measured from the unmoved point made the
-/// segment cross the light's own plane when a surface saw the light at a grazing angle, so the
-/// light shadowed itself (a patch beside a quad light lost 63% of its irradiance).
-fn unoccluded(scene: &Scene, hit: &Hit, ls: &LightSample) -> bool {
-    let origin = offset_origin(hit.p, hit.ng, ls.wi);
-    if ls.is_delta {
-        // A point has no surface to shadow itself with.
-        return !scene.occluded(origin, ls.wi, (ls.point - origin).length());
-    }
-    let target = offset_origin(ls.point, ls.normal, origin - ls.point);
-    let d = target - origin;
-    let dist = d.length();
-    dist > 0.0 && !scene.occluded(origin, d / dist, dist)
-}
-
-/// Power heuristic with β = 2 (Veach & Guibas 1995).
-pub(crate) fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
-    let a = pdf_a * pdf_a;
-    let b = pdf_b * pdf_b;
-    if a + b == 0.0 { 0.0 } else { a / (a + b) }
-}
-
-/// Solid-angle density with which light sampling (choice by power, then the light's own
-/// sampling) would have produced the direction from `from` to the emitter `hit`.
-pub(crate) fn light_pdf_for_hit(scene: &Scene, from: Vec3, hit: &Hit) -> f32 {
-    let i = hit.light as usize;
-    scene.light_choice_pmf(i) * own_light_pdf_for_hit(scene, from, hit)
-}
-
-/// Solid-angle density with which the emitter `hit`'s own sampling produces the direction
-/// from `from` (no choice between lights: [`direct::direct_light`] samples every light).
-pub(crate) fn own_light_pdf_for_hit(scene: &Scene, from: Vec3, hit: &Hit) -> f32 {
-    match &scene.lights()[hit.light as usize] {
-        Light::Area(l) => l.pdf_li(from, hit.p, hit.ng),
-        Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => 0.0,
     }
 }

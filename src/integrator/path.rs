@@ -1,9 +1,8 @@
 //! Unidirectional path tracing with next-event estimation, multiple importance sampling
 //! (Veach & Guibas 1995, power heuristic) and Russian roulette: the ground truth.
 
-use super::{
-    RayStats, Sample, ShadingPoint, light_pdf_for_hit, light_sample_contribution, power_heuristic,
-};
+use super::lighting::{light_pdf_for_hit, one_light_by_power, power_heuristic};
+use super::{RayStats, Sample, ShadingPoint};
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
@@ -76,7 +75,7 @@ pub(super) fn radiance(
                 out.albedo = sp.material.albedo(sp.wo_local);
                 out.normal = sp.frame.n;
             }
-            l += beta * next_event(scene, &sp, rng, stats);
+            l += beta * one_light_by_power(scene, &sp, rng, stats);
         }
         let u_lobe = rng.next_f32();
         let Some(s) =
@@ -104,27 +103,4 @@ pub(super) fn radiance(
     }
     out.beauty = l;
     out
-}
-
-/// One light, chosen by power, sampled once; MIS-weighted against BSDF sampling for area lights.
-fn next_event(scene: &Scene, sp: &ShadingPoint, rng: &mut Rng, stats: &mut RayStats) -> Rgb {
-    let u_choose = rng.next_f32();
-    let u_pick = rng.next_f32();
-    let u = rng.next_2d();
-    let Some((i, pmf, _)) = scene.choose_light(u_choose) else {
-        return Rgb::ZERO;
-    };
-    let light = &scene.lights()[i];
-    let Some(mut ls) = light.sample_li(sp.hit.p, u_pick, u) else {
-        return Rgb::ZERO;
-    };
-    ls.pdf *= pmf;
-    let Some((value, bsdf_pdf)) = light_sample_contribution(scene, sp, &ls, stats) else {
-        return Rgb::ZERO;
-    };
-    if ls.is_delta {
-        value
-    } else {
-        value * power_heuristic(ls.pdf, bsdf_pdf)
-    }
 }

@@ -18,7 +18,8 @@
 //!   meets a light adds nothing (that light is direct or caustic). With `gather_rays = 0` the
 //!   global map is read at x instead, leaving out its direct photons.
 
-use super::direct::{DirectConfig, direct_light, emission_weight, escaped_radiance};
+use super::delta::{smooth_branches, stop_probability};
+use super::lighting::{direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::{Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
@@ -172,14 +173,6 @@ impl PhotonIntegrator {
         self.cache.as_ref().map_or(0, |c| c.len())
     }
 
-    fn direct_config(&self) -> DirectConfig {
-        DirectConfig {
-            max_depth: self.settings.max_depth,
-            light_samples: self.settings.light_samples,
-            ..DirectConfig::default()
-        }
-    }
-
     pub(super) fn sample(
         &self,
         scene: &Scene,
@@ -208,9 +201,9 @@ impl PhotonIntegrator {
         stats: &mut RayStats,
     ) -> Sample {
         let mut out = Sample::default();
-        let dc = self.direct_config();
+        let light_samples = self.settings.light_samples;
         let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
-            out.direct = escaped_radiance(&dc, scene, ray.dir, at.arrival.map(|a| a.1));
+            out.direct = escaped_radiance(light_samples, scene, ray.dir, at.arrival.map(|a| a.1));
             return out;
         };
         let wo = -ray.dir;
@@ -218,7 +211,7 @@ impl PhotonIntegrator {
         if let Some((from, p_bsdf)) = at.arrival
             && out.direct != Rgb::ZERO
         {
-            out.direct *= emission_weight(&dc, scene, from, &hit, p_bsdf);
+            out.direct *= emission_weight(light_samples, scene, from, &hit, p_bsdf);
         }
         let sp = ShadingPoint::new(scene, &hit, wo);
         let m = &sp.material;
@@ -228,7 +221,7 @@ impl PhotonIntegrator {
             out.normal = sp.frame.n;
         }
         if m.lobes().has_density() {
-            out.direct += direct_light(&dc, scene, &sp, Some(1.0), rng, stats);
+            out.direct += direct_light(light_samples, scene, &sp, Some(1.0), rng, stats);
         }
         if rough {
             let maps = &self.maps;
@@ -266,10 +259,9 @@ impl PhotonIntegrator {
         out
     }
 
-    /// Follow the smooth part of the material (mirrors, glass, near-specular glossy lobes).
-    /// Delta lobes are split into all their branches for the first `SPLIT_DEPTH` bounces
-    /// (glass: weights F and 1 − F), since choosing one at random makes bright reflections of
-    /// the light and the caustic flicker between samples; otherwise the part is sampled once.
+    /// Follow the smooth part of the material (mirrors, glass, near-specular glossy lobes):
+    /// every delta branch for the first `SPLIT_DEPTH` bounces, one sampled direction beyond
+    /// (see [`smooth_branches`]).
     fn follow_smooth(
         &self,
         scene: &Scene,
@@ -280,42 +272,25 @@ impl PhotonIntegrator {
         out: &mut Sample,
     ) {
         let m = &sp.material;
-        let mut branches: [Option<(Vec3, Rgb, Option<f32>)>; 2] = [None, None];
-        let split = m.specular_branches(sp.wo_local, TransportMode::Radiance);
-        let splitting = at.depth < SPLIT_DEPTH && split[0].is_some();
-        if splitting {
-            for (slot, b) in branches.iter_mut().zip(split) {
-                *slot = b.map(|b| (b.wi, b.weight, None));
-            }
-        } else {
-            let u_lobe = rng.next_f32();
-            branches[0] = m
-                .sample_part(
-                    sp.wo_local,
-                    u_lobe,
-                    rng.next_2d(),
-                    TransportMode::Radiance,
-                    Part::Smooth,
-                )
-                .map(|s| (s.wi, s.weight, (!s.is_specular()).then_some(s.pdf)));
-        }
+        let leaving = smooth_branches(sp, Part::Smooth, at.depth, SPLIT_DEPTH, rng);
         let mut heaviest = 0.0;
-        for (wi_local, mut weight, pdf) in branches.into_iter().flatten() {
+        for b in leaving.branches.into_iter().flatten() {
+            let mut weight = b.weight;
             if weight == Rgb::ZERO {
                 continue;
             }
-            // Past the first bounce, Russian roulette on a weak coat over a rough base (its
-            // few per cent), which otherwise went on to the maximum depth from every coated
-            // surface. Mirrors and glass, and split branches, always go on; so does a coat
-            // passing half its light or more.
-            if at.depth >= 1 && !splitting && m.has(Part::Rough) {
-                let survive = (2.0 * weight.max_element()).min(1.0);
+            // Past the first bounce, Russian roulette on a coat over a rough base (without it
+            // every coated surface went on to the maximum depth): the path goes on with the
+            // probability the progressive methods' camera paths do ([`stop_probability`]).
+            // Mirrors and glass, and split branches, always go on.
+            if at.depth >= 1 && !leaving.split && m.has(Part::Rough) {
+                let survive = 1.0 - stop_probability(m, sp.wo_local, true);
                 if survive < 1.0 && (survive <= 0.0 || rng.next_f32() >= survive) {
                     continue;
                 }
                 weight /= survive;
             }
-            let wi = sp.frame.to_world(wi_local);
+            let wi = sp.frame.to_world(b.wi);
             let next = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
             stats.bounce += 1;
             let s = self.trace(
@@ -324,7 +299,7 @@ impl PhotonIntegrator {
                 Vertex {
                     depth: at.depth + 1,
                     first: false,
-                    arrival: pdf.map(|p| (sp.hit.p, p)),
+                    arrival: b.glossy_pdf.map(|p| (sp.hit.p, p)),
                 },
                 rng,
                 stats,

@@ -1,7 +1,8 @@
 //! Camera paths to their first rough surface: the "visible points" of progressive photon
 //! mapping (Hachisuka et al. 2008), with the light that needs no photons gathered on the way.
 
-use super::direct::{DirectConfig, direct_light, emission_weight, escaped_radiance};
+use super::delta::{smooth_branches, stop_probability};
+use super::lighting::{direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, ShadingPoint};
 use crate::material::{Material, Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
@@ -52,10 +53,6 @@ pub fn trace_camera_path<S: Sampler>(
     let mut beta = Rgb::ONE;
     let mut ray = *ray;
     let mut distance = 0.0;
-    let c = DirectConfig {
-        light_samples,
-        ..DirectConfig::default()
-    };
     // The previous point and the density of the glossy sample that left it, for MIS.
     let mut arrival: Option<(Vec3, f32)> = None;
     // While every bounce has been along a delta lobe: the weight of the light found.
@@ -64,7 +61,7 @@ pub fn trace_camera_path<S: Sampler>(
     for depth in 0..=max_depth {
         let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
             let w = chain.map_or(beta, |d| d.weight);
-            out.direct += w * escaped_radiance(&c, scene, ray.dir, arrival.map(|a| a.1));
+            out.direct += w * escaped_radiance(light_samples, scene, ray.dir, arrival.map(|a| a.1));
             return out;
         };
         distance += hit.t;
@@ -73,7 +70,7 @@ pub fn trace_camera_path<S: Sampler>(
         if let Some((from, p_bsdf)) = arrival
             && le != Rgb::ZERO
         {
-            le *= emission_weight(&c, scene, from, &hit, p_bsdf);
+            le *= emission_weight(light_samples, scene, from, &hit, p_bsdf);
         }
         out.direct += chain.map_or(beta, |d| d.weight) * le;
         let sp = ShadingPoint::new(scene, &hit, wo);
@@ -91,7 +88,8 @@ pub fn trace_camera_path<S: Sampler>(
         };
         let stop = stop_probability(m, sp.wo_local, may_go_on);
         if m.lobes().has_density() {
-            out.direct += beta * direct_light(&c, scene, &sp, Some(1.0 - stop), rng, stats);
+            out.direct +=
+                beta * direct_light(light_samples, scene, &sp, Some(1.0 - stop), rng, stats);
         }
         if stop > 0.0 && (stop >= 1.0 || rng.next_f32() < stop) {
             out.direct += other_branches(None, rng, stats);
@@ -207,7 +205,7 @@ fn same_side(a: Vec3, b: Vec3) -> bool {
 /// The light arriving at `sp` from local direction `wi` along delta lobes alone, times
 /// `weight`: emission and sky found through mirrors and glass. `depth` is the depth of the hit
 /// it finds; from there every branch is followed while it is below [`SPLIT_DEPTH`], one sampled
-/// beyond.
+/// beyond (see [`smooth_branches`]).
 fn branch_emission(
     walk: &mut DeltaWalk,
     sp: &ShadingPoint,
@@ -229,24 +227,11 @@ fn branch_emission(
     let mut l = scene.emitted(&hit, -wi);
     let m = &next.material;
     if depth < walk.max_depth && m.lobes().is_specular() {
-        if depth < SPLIT_DEPTH {
-            for b in m
-                .specular_branches(next.wo_local, TransportMode::Radiance)
-                .into_iter()
-                .flatten()
-            {
+        let leaving = smooth_branches(&next, Part::Smooth, depth, SPLIT_DEPTH, &mut *walk.rng);
+        // Paths that leave along a lobe with a density are not delta chains.
+        for b in leaving.branches.into_iter().flatten() {
+            if b.glossy_pdf.is_none() {
                 l += branch_emission(walk, &next, b.wi, b.weight, depth + 1);
-            }
-        } else {
-            let u_lobe = walk.rng.next_f32();
-            let u = walk.rng.next_2d();
-            let mode = TransportMode::Radiance;
-            // Paths that leave along a lobe with a density are not delta chains.
-            if let Some(s) = m
-                .sample_part(next.wo_local, u_lobe, u, mode, Part::Smooth)
-                .filter(|s| s.is_specular())
-            {
-                l += branch_emission(walk, &next, s.wi, s.weight, depth + 1);
             }
         }
     }
@@ -274,25 +259,6 @@ impl<'a> DeltaWalk<'a> {
             max_depth,
             rng,
             stats,
-        }
-    }
-}
-
-/// Probability that a camera path stops at a material: 1 with only a rough part (or when it
-/// may go no further), 0 with only a smooth part, else the rough part's share of the albedo
-/// seen from `wo`, kept within [0.1, 0.9] so neither choice is starved.
-fn stop_probability(m: &Material, wo: Vec3, may_go_on: bool) -> f32 {
-    match (m.has(Part::Rough), m.has(Part::Smooth) && may_go_on) {
-        (true, false) => 1.0,
-        (false, _) => 0.0,
-        (true, true) => {
-            let rough = m.part_weight(wo, Part::Rough);
-            let smooth = m.part_weight(wo, Part::Smooth);
-            if rough + smooth > 0.0 {
-                (rough / (rough + smooth)).clamp(0.1, 0.9)
-            } else {
-                0.5
-            }
         }
     }
 }

@@ -6,20 +6,26 @@
 //! | per pixel: SPPM 8 × f64 (r², N, τ rgb, direct rgb) or PPM 3 × i128 (fixed-point sums)
 //! | FNV-1a 64 checksum of everything before it
 //! ```
-//! All numbers little-endian; written atomically.
+//! [`super::container`]'s layout; written atomically.
 
-use super::image::write_atomically;
+use super::atomic::write_file;
+use super::container::{self, Contents, Format};
 use crate::error::{Error, Result};
-use crate::progressive::state::SppmPixel;
-use crate::progressive::{Method, ProgressiveConfig, ProgressiveState};
-use crate::scene::Fnv1a;
+use crate::film::FixedRgb;
+use crate::progressive::{Method, Pixels, ProgressiveConfig, ProgressiveState, SppmPixel};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"PHOTONCK";
 /// 2: PPM sums are 128-bit (they were 64-bit and wrapped).
 pub const CHECKPOINT_VERSION: u32 = 2;
-const MAX_HEADER: usize = 1 << 20;
+/// The container of checkpoints and PPM parts.
+const CHECKPOINT: Format = Format {
+    magic: b"PHOTONCK",
+    version: CHECKPOINT_VERSION,
+    fixed_words: 0,
+    max_header: 1 << 20,
+    noun: "checkpoint",
+};
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -79,6 +85,14 @@ fn bad(path: &Path, m: impl Into<String>) -> Error {
     }
 }
 
+/// A pixel's size in the body: SPPM 8 × f64, PPM 3 × i128.
+fn bytes_per_pixel(method: Method) -> usize {
+    match method {
+        Method::Sppm => 64,
+        Method::Ppm => 48,
+    }
+}
+
 pub fn save(state: &ProgressiveState, path: &Path) -> Result<()> {
     save_with(state, &RunInfo::default(), path)
 }
@@ -110,46 +124,35 @@ pub fn save_with(state: &ProgressiveState, info: &RunInfo, path: &Path) -> Resul
         env_rotate: info.env.rotate_deg,
         env_intensity: info.env.intensity,
     };
-    let json = serde_json::to_vec(&header).map_err(|e| bad(path, e.to_string()))?;
-    let mut bytes = Vec::new();
-    bytes.extend_from_slice(MAGIC);
-    bytes.extend_from_slice(&CHECKPOINT_VERSION.to_le_bytes());
-    bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    bytes.extend_from_slice(&json);
-    match c.method {
-        Method::Sppm => {
-            for p in &state.sppm {
-                for v in [
-                    p.r2,
-                    p.n,
-                    p.tau[0],
-                    p.tau[1],
-                    p.tau[2],
-                    p.direct[0],
-                    p.direct[1],
-                    p.direct[2],
-                ] {
-                    bytes.extend_from_slice(&v.to_le_bytes());
+    let body_len = bytes_per_pixel(c.method) * c.width as usize * c.height as usize;
+    let bytes = container::encode(&CHECKPOINT, &[], &header, body_len, |out| {
+        match &state.pixels {
+            Pixels::Sppm(pixels) => {
+                for p in pixels {
+                    for v in [
+                        p.r2,
+                        p.n,
+                        p.tau[0],
+                        p.tau[1],
+                        p.tau[2],
+                        p.direct[0],
+                        p.direct[1],
+                        p.direct[2],
+                    ] {
+                        out.extend_from_slice(&v.to_le_bytes());
+                    }
+                }
+            }
+            Pixels::Ppm(pixels) => {
+                for p in pixels {
+                    for v in p.0 {
+                        out.extend_from_slice(&v.to_le_bytes());
+                    }
                 }
             }
         }
-        Method::Ppm => {
-            for p in &state.ppm {
-                for v in p {
-                    bytes.extend_from_slice(&v.to_le_bytes());
-                }
-            }
-        }
-    }
-    let mut h = Fnv1a::default();
-    h.write(&bytes);
-    bytes.extend_from_slice(&h.finish().to_le_bytes());
-    write_atomically(path, |tmp| {
-        std::fs::write(tmp, &bytes).map_err(|source| Error::Write {
-            path: path.to_owned(),
-            source,
-        })
-    })
+    });
+    write_file(path, &bytes)
 }
 
 pub fn load(path: &Path) -> Result<ProgressiveState> {
@@ -164,41 +167,18 @@ pub fn load_with(path: &Path) -> Result<(ProgressiveState, RunInfo)> {
 
 /// [`load_with`] on bytes in memory; the error is the reason, without the path.
 pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunInfo), String> {
-    if bytes.len() < 24 || &bytes[..8] != MAGIC {
-        return Err("not a Photon checkpoint (bad magic number)".into());
-    }
-    let u32_at =
-        |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
-    let version = u32_at(8);
-    if version != CHECKPOINT_VERSION {
-        return Err(format!(
-            "checkpoint version {version}; this Photon reads {CHECKPOINT_VERSION}"
-        ));
-    }
-    let (body, tail) = bytes.split_at(bytes.len() - 8);
-    let mut h = Fnv1a::default();
-    h.write(body);
-    if h.finish() != u64::from_le_bytes(tail.try_into().expect("8 bytes")) {
-        return Err("checksum mismatch: the checkpoint is truncated or corrupted".into());
-    }
-    let header_len = u32_at(12) as usize;
-    if header_len > MAX_HEADER || 16 + header_len > body.len() {
-        return Err("truncated header".into());
-    }
-    let hd: Header = serde_json::from_slice(&body[16..16 + header_len])
-        .map_err(|e| format!("unreadable header: {e}"))?;
+    let Contents {
+        header: hd,
+        body: data,
+        ..
+    } = container::decode::<Header>(&CHECKPOINT, bytes)?;
     let method = match hd.method.as_str() {
         "sppm" => Method::Sppm,
         "ppm" => Method::Ppm,
         m => return Err(format!("unknown method '{m}'")),
     };
     let pixels = hd.width as usize * hd.height as usize;
-    let per_pixel = match method {
-        Method::Sppm => 64,
-        Method::Ppm => 48,
-    };
-    let data = &body[16 + header_len..];
-    if Some(data.len()) != pixels.checked_mul(per_pixel) {
+    if Some(data.len()) != pixels.checked_mul(bytes_per_pixel(method)) {
         return Err(format!(
             "{} bytes of pixel data for {}×{} pixels",
             data.len(),
@@ -220,7 +200,6 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
         light_samples: hd.light_samples,
     };
     config.validate().map_err(|e| e.to_string())?;
-    let f64_at = |at: usize| f64::from_le_bytes(data[at..at + 8].try_into().expect("8 bytes"));
     let info = RunInfo {
         output: hd.output.map(std::path::PathBuf::from),
         target_passes: hd.target_passes,
@@ -231,21 +210,12 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
             intensity: hd.env_intensity,
         },
     };
-    let mut state = ProgressiveState {
-        config,
-        scene_name: hd.scene,
-        scene_hash,
-        first_pass: hd.first_pass,
-        passes: hd.passes,
-        sppm: Vec::new(),
-        ppm: Vec::new(),
-        buffers: Default::default(),
-    };
-    match method {
-        Method::Sppm => {
-            state.sppm = (0..pixels)
-                .map(|i| {
-                    let v = |k: usize| f64_at(i * 64 + k * 8);
+    let pixels = match method {
+        Method::Sppm => Pixels::Sppm(
+            data.chunks_exact(64)
+                .map(|px| {
+                    let v =
+                        |k: usize| f64::from_le_bytes(px[k * 8..k * 8 + 8].try_into().expect("8"));
                     SppmPixel {
                         r2: v(0),
                         n: v(1),
@@ -253,22 +223,27 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
                         direct: [v(5), v(6), v(7)],
                     }
                 })
-                .collect();
-        }
-        Method::Ppm => {
-            state.ppm = (0..pixels)
-                .map(|i| {
+                .collect(),
+        ),
+        Method::Ppm => Pixels::Ppm(
+            data.chunks_exact(48)
+                .map(|px| {
                     let v = |k: usize| {
-                        i128::from_le_bytes(
-                            data[i * 48 + k * 16..i * 48 + k * 16 + 16]
-                                .try_into()
-                                .expect("16"),
-                        )
+                        i128::from_le_bytes(px[k * 16..k * 16 + 16].try_into().expect("16"))
                     };
-                    [v(0), v(1), v(2)]
+                    FixedRgb([v(0), v(1), v(2)])
                 })
-                .collect();
-        }
-    }
+                .collect(),
+        ),
+    };
+    let state = ProgressiveState {
+        config,
+        scene_name: hd.scene,
+        scene_hash,
+        first_pass: hd.first_pass,
+        passes: hd.passes,
+        pixels,
+        buffers: Default::default(),
+    };
     Ok((state, info))
 }

@@ -5,6 +5,7 @@
 
 use crate::error::{Error, Result};
 use crate::film::Image;
+use crate::io::atomic::{check_writable_path, write_atomically, write_file};
 use crate::io::decoded::{self, Footprint, Reservation};
 use crate::math::Rgb;
 use std::fs;
@@ -55,133 +56,6 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
     let format = ImageFormat::from_path(path).ok_or_else(|| unsupported(path, WRITABLE))?;
     check_writable_path(path)?;
     Ok(format)
-}
-
-/// Check that a file can be created beside `path` (creates and removes a temporary file), so
-/// a long computation does not end in a failed write.
-pub fn check_writable_path(path: &Path) -> Result<()> {
-    let tmp = temp_path(path);
-    fs::File::create(&tmp).map_err(|source| Error::Write {
-        path: path.to_owned(),
-        source,
-    })?;
-    let _ = fs::remove_file(&tmp);
-    Ok(())
-}
-
-/// The temporary sibling a file is written to before being renamed into place:
-/// `.NAME.HOST.PID.partial`, unique among the hosts that share a folder.
-pub fn temp_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(
-        ".{name}.{}.{}.partial",
-        host_name(),
-        std::process::id()
-    ))
-}
-
-/// This machine's name as file names and job locks record it: its host name with anything
-/// but ASCII letters, digits, `-` and `.` replaced by `_` ("unknown" where there is none).
-pub fn host_name() -> String {
-    let raw = crate::io::input::read_text(Path::new("/proc/sys/kernel/hostname"))
-        .ok()
-        .or_else(|| std::env::var("HOSTNAME").ok())
-        .or_else(|| std::env::var("COMPUTERNAME").ok())
-        .unwrap_or_default();
-    let name: String = raw
-        .trim()
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if name.is_empty() {
-        "unknown".into()
-    } else {
-        name
-    }
-}
-
-/// Whether process `pid` of this host runs, where that can be known (Linux: `/proc/PID`);
-/// elsewhere every process is taken to run.
-pub fn process_is_running(pid: u32) -> bool {
-    !cfg!(target_os = "linux") || Path::new(&format!("/proc/{pid}")).exists()
-}
-
-/// A temporary file whose writer cannot be known to be gone is removed only this long after
-/// its last change: no write of a live process pauses for a day.
-const ABANDONED_AFTER: std::time::Duration = std::time::Duration::from_secs(24 * 3600);
-
-/// Remove `.NAME.HOST.PID.partial` siblings of `path` that their writers left (a SIGKILL
-/// leaves them; they reached 67 MB): this host's whose process has ended, and any, of any
-/// host or of the older `.NAME.PID.partial` form, unchanged for [`ABANDONED_AFTER`]. Another
-/// host's process cannot be seen from here, so its recent files are left alone.
-fn remove_stale_partials(path: &Path) {
-    let Some(name) = path.file_name().map(|n| n.to_string_lossy().into_owned()) else {
-        return;
-    };
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let prefix = format!(".{name}.");
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    let this_host = host_name();
-    for entry in entries.flatten() {
-        let file = entry.file_name().to_string_lossy().into_owned();
-        let Some(writer) = file
-            .strip_prefix(&prefix)
-            .and_then(|rest| rest.strip_suffix(".partial"))
-        else {
-            continue;
-        };
-        let (host, pid) = writer.rsplit_once('.').unwrap_or(("", writer));
-        let Ok(pid) = pid.parse::<u32>() else {
-            continue;
-        };
-        let ended_here = host == this_host && pid != std::process::id() && !process_is_running(pid);
-        let abandoned = entry
-            .metadata()
-            .and_then(|m| m.modified())
-            .ok()
-            .and_then(|t| t.elapsed().ok())
-            .is_some_and(|age| age > ABANDONED_AFTER);
-        if ended_here || abandoned {
-            let _ = fs::remove_file(entry.path());
-        }
-    }
-}
-
-/// Write via a temporary file and rename it over `path`.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let tmp = temp_path(path);
-    remove_stale_partials(path);
-    let result = write(&tmp).and_then(|()| {
-        let err = |source| Error::Write {
-            path: path.to_owned(),
-            source,
-        };
-        // The data reaches the disk before the name does: a crash after the rename must not
-        // leave an empty or torn file where the old one was.
-        fs::OpenOptions::new()
-            .write(true)
-            .open(&tmp)
-            .and_then(|f| f.sync_all())
-            .map_err(err)?;
-        fs::rename(&tmp, path).map_err(err)
-    });
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result
 }
 
 /// `render.npy` → `render_r.npy` (and `_g`, `_b`).
@@ -308,12 +182,7 @@ pub fn write_npy_channel(image: &Image, channel: usize, path: &Path) -> Result<(
     for p in &image.pixels {
         bytes.extend_from_slice(&p[channel].to_le_bytes());
     }
-    write_atomically(path, |tmp| {
-        fs::write(tmp, &bytes).map_err(|source| Error::Write {
-            path: path.to_owned(),
-            source,
-        })
-    })
+    write_file(path, &bytes)
 }
 
 fn write_png(image: &Image, path: &Path, exposure: f32) -> Result<(), image::ImageError> {

@@ -1,7 +1,7 @@
 //! Procedural models out as Wavefront OBJ (named objects, vertex normals) or ASCII PLY.
 
-use super::image::write_atomically;
-use crate::error::{Error, Result};
+use super::atomic::write_file;
+use crate::error::Result;
 use crate::modeling::PolyMesh;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -13,12 +13,7 @@ pub struct Part<'a> {
 }
 
 fn write_text(path: &Path, text: &str) -> Result<()> {
-    write_atomically(path, |tmp| {
-        std::fs::write(tmp, text).map_err(|source| Error::Write {
-            path: path.to_owned(),
-            source,
-        })
-    })
+    write_file(path, text)
 }
 
 /// OBJ with one `o NAME` per part, positions, smooth vertex normals, and polygon faces.

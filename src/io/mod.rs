@@ -1,7 +1,9 @@
 //! Files: images (PNG, OpenEXR, PFM, NumPy), photon maps (.phm), point clouds and procedural
 //! models (PLY, OBJ), all written atomically.
 
+pub mod atomic;
 pub mod checkpoint;
+pub mod container;
 pub mod decoded;
 pub mod image;
 pub mod input;

@@ -13,23 +13,27 @@
 //! ...     24·G  global photons, kd-tree order
 //! end-8   8     FNV-1a 64 checksum of everything before it
 //! ```
-//! Photons are stored in kd-tree order, so loading needs no rebuild.
+//! This is [`super::container`]'s layout with two fixed words. Photons are stored in kd-tree
+//! order, so loading needs no rebuild.
 
-use super::image::write_atomically;
+use super::atomic::write_file;
+use super::container::{self, Contents, Format};
 use crate::error::{Error, Result};
 use crate::photon::{MapKind, Photon, PhotonConfig, PhotonMap, PhotonMaps, TraceStats};
-use crate::scene::Fnv1a;
 use serde::{Deserialize, Serialize};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
-const MAGIC: &[u8; 8] = b"PHOTONMP";
 pub const FORMAT_VERSION: u32 = 2;
+/// The container of `.phm` files; its fixed words are the endianness mark and the photon size.
+const PHM: Format = Format {
+    magic: b"PHOTONMP",
+    version: FORMAT_VERSION,
+    fixed_words: 2,
+    max_header: 1 << 20,
+    noun: "photon-map file",
+};
 const ENDIAN_MARK: u32 = 0x0102_0304;
 const PHOTON_SIZE: usize = std::mem::size_of::<Photon>();
-const FIXED: usize = 24;
-/// A header larger than this is not one we wrote.
-const MAX_HEADER: usize = 1 << 20;
 
 #[derive(Serialize, Deserialize, Debug, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -79,94 +83,57 @@ pub fn save(maps: &PhotonMaps, path: &Path) -> Result<()> {
         stored_by_depth: maps.stats.stored_by_depth.clone(),
         layout: "position f32x3, power f16x3 (x power_scale W), direction octahedral u8x2, normal octahedral u8x2, depth u8, flags u8".into(),
     };
-    let json = serde_json::to_vec(&header).map_err(|e| bad(path, e.to_string()))?;
-    let mut bytes = Vec::with_capacity(
-        FIXED + json.len() + PHOTON_SIZE * (maps.caustic.len() + maps.global.len()) + 8,
+    let photons = maps.caustic.len() + maps.global.len();
+    let bytes = container::encode(
+        &PHM,
+        &[ENDIAN_MARK, PHOTON_SIZE as u32],
+        &header,
+        PHOTON_SIZE * photons,
+        |out| {
+            out.extend_from_slice(bytemuck::cast_slice(maps.caustic.photons()));
+            out.extend_from_slice(bytemuck::cast_slice(maps.global.photons()));
+        },
     );
-    bytes.extend_from_slice(MAGIC);
-    bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-    bytes.extend_from_slice(&ENDIAN_MARK.to_le_bytes());
-    bytes.extend_from_slice(&(PHOTON_SIZE as u32).to_le_bytes());
-    bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    bytes.extend_from_slice(&json);
-    bytes.extend_from_slice(bytemuck::cast_slice(maps.caustic.photons()));
-    bytes.extend_from_slice(bytemuck::cast_slice(maps.global.photons()));
-    let mut h = Fnv1a::default();
-    h.write(&bytes);
-    bytes.extend_from_slice(&h.finish().to_le_bytes());
-    write_atomically(path, |tmp| {
-        std::fs::File::create(tmp)
-            .and_then(|mut f| f.write_all(&bytes).and_then(|()| f.sync_all()))
-            .map_err(|source| Error::Write {
-                path: path.to_owned(),
-                source,
-            })
-    })
-}
-
-fn u32_at(b: &[u8], at: usize) -> u32 {
-    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
+    write_file(path, &bytes)
 }
 
 /// Load maps saved by [`save`]. Truncated, corrupted or foreign files are errors.
 pub fn load(path: &Path) -> Result<PhotonMaps> {
     let bytes = crate::io::input::read_file(path)?;
-    if bytes.len() < FIXED + 8 || &bytes[..8] != MAGIC {
-        return Err(bad(path, "not a Photon photon-map file (bad magic number)"));
+    decode(&bytes).map_err(|m| bad(path, m))
+}
+
+/// [`load`] on bytes in memory; the error is the reason, without the path.
+fn decode(bytes: &[u8]) -> std::result::Result<PhotonMaps, String> {
+    let contents: Contents<Header> = container::decode(&PHM, bytes)?;
+    if contents.fixed[0] != ENDIAN_MARK {
+        return Err("written with another byte order".into());
     }
-    let version = u32_at(&bytes, 8);
-    if version != FORMAT_VERSION {
-        return Err(bad(
-            path,
-            format!("format version {version}; this Photon reads version {FORMAT_VERSION}"),
-        ));
-    }
-    if u32_at(&bytes, 12) != ENDIAN_MARK {
-        return Err(bad(path, "written with another byte order"));
-    }
-    let size = u32_at(&bytes, 16) as usize;
+    let size = contents.fixed[1] as usize;
     if size != PHOTON_SIZE {
-        return Err(bad(
-            path,
-            format!("photon records are {size} bytes; expected {PHOTON_SIZE}"),
+        return Err(format!(
+            "photon records are {size} bytes; expected {PHOTON_SIZE}"
         ));
     }
-    let (body, tail) = bytes.split_at(bytes.len() - 8);
-    let stored = u64::from_le_bytes(tail.try_into().expect("8 bytes"));
-    let header_len = u32_at(&bytes, 20) as usize;
-    if header_len > MAX_HEADER || FIXED + header_len > body.len() {
-        return Err(bad(path, "truncated header"));
-    }
-    let header: Header = serde_json::from_slice(&bytes[FIXED..FIXED + header_len])
-        .map_err(|e| bad(path, format!("unreadable header: {e}")))?;
+    let header = contents.header;
+    let body = contents.body;
     let expected = header
         .caustic_count
         .checked_add(header.global_count)
         .and_then(|n| usize::try_from(n).ok())
         .and_then(|n| n.checked_mul(PHOTON_SIZE))
-        .and_then(|n| n.checked_add(FIXED + header_len))
-        .ok_or_else(|| bad(path, "photon counts overflow"))?;
+        .ok_or("photon counts overflow")?;
     if body.len() != expected {
-        return Err(bad(
-            path,
-            format!(
-                "truncated or padded: {} bytes of photons, the header announces {}",
-                body.len(),
-                expected
-            ),
+        return Err(format!(
+            "truncated or padded: {} bytes of photons, the header announces {expected}",
+            body.len(),
         ));
     }
-    let mut h = Fnv1a::default();
-    h.write(body);
-    if h.finish() != stored {
-        return Err(bad(path, "checksum mismatch: the file is corrupted"));
-    }
-    let scene_hash = u64::from_str_radix(&header.scene_hash, 16)
-        .map_err(|_| bad(path, "bad scene hash in header"))?;
-    let photons_at = FIXED + header_len;
-    let split = photons_at + header.caustic_count as usize * PHOTON_SIZE;
-    let caustic: Vec<Photon> = bytemuck::pod_collect_to_vec(&body[photons_at..split]);
-    let global: Vec<Photon> = bytemuck::pod_collect_to_vec(&body[split..]);
+    let scene_hash =
+        u64::from_str_radix(&header.scene_hash, 16).map_err(|_| "bad scene hash in header")?;
+    let (caustic, global) = body.split_at(header.caustic_count as usize * PHOTON_SIZE);
+    let caustic: Vec<Photon> = bytemuck::pod_collect_to_vec(caustic);
+    let global: Vec<Photon> = bytemuck::pod_collect_to_vec(global);
     Ok(PhotonMaps {
         scene_name: header.scene,
         scene_hash,

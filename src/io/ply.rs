@@ -5,7 +5,8 @@
 //! came from), as the original stored it; `red green blue` the colour asked for; `power` the
 //! flux in watts (of the selected channel, or summed over RGB); `depth`.
 
-use super::image::{linear_to_srgb, write_atomically};
+use super::atomic::write_atomically;
+use super::image::linear_to_srgb;
 use crate::error::{Error, Result};
 use crate::math::Rgb;
 use crate::photon::{Channel, MapKind, Photon, PhotonMap, PhotonMaps};

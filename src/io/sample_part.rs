@@ -7,18 +7,26 @@
 //! | per pixel and component: 3 sums and a count, each a zigzag LEB128 varint
 //! | FNV-1a 64 checksum of everything before it
 //! ```
-//! Varints because most sums fit in 5 to 9 bytes of their 16. Written atomically.
+//! [`super::container`]'s layout. Varints because most sums fit in 5 to 9 bytes of their 16.
+//! Written atomically.
 
-use super::image::write_atomically;
+use super::atomic::write_file;
+use super::container::{self, Contents, Format};
 use crate::error::{Error, Result};
+use crate::film::FixedRgb;
 use crate::render::{MAX_RESOLUTION, SampleSums};
-use crate::scene::Fnv1a;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-pub const MAGIC: &[u8; 8] = b"PHOTONSP";
 pub const SAMPLE_PART_VERSION: u32 = 1;
-const MAX_HEADER: usize = 1 << 20;
+/// The container of sample parts.
+const SAMPLE_PART: Format = Format {
+    magic: b"PHOTONSP",
+    version: SAMPLE_PART_VERSION,
+    fixed_words: 0,
+    max_header: 1 << 20,
+    noun: "sample part",
+};
 
 /// What the sums were rendered from, which parts must share to be added.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -79,40 +87,28 @@ fn get_varint(data: &[u8], at: &mut usize) -> Option<i128> {
 
 /// Write `sums` with their `origin` to `path` (atomically).
 pub fn save(sums: &SampleSums, origin: &PartOrigin, path: &Path) -> Result<()> {
-    let header = serde_json::to_vec(&Header {
+    let header = Header {
         origin: origin.clone(),
         width: sums.width,
         height: sums.height,
         spp: sums.spp,
         samples: sums.samples,
         splits_components: sums.splits_components,
-    })
-    .map_err(|e| Error::InvalidSetting(format!("cannot encode a part header: {e}")))?;
-    let mut out = Vec::with_capacity(24 + header.len() + sums.sums.len() * 24);
-    out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&SAMPLE_PART_VERSION.to_le_bytes());
-    out.extend_from_slice(&(header.len() as u32).to_le_bytes());
-    out.extend_from_slice(&header);
-    for (sum, count) in &sums.sums {
-        for &v in sum {
-            put_varint(&mut out, v);
+    };
+    let bytes = container::encode(&SAMPLE_PART, &[], &header, sums.sums.len() * 24, |out| {
+        for (sum, count) in &sums.sums {
+            for &v in &sum.0 {
+                put_varint(out, v);
+            }
+            put_varint(out, i128::from(*count));
         }
-        put_varint(&mut out, i128::from(*count));
-    }
-    let mut h = Fnv1a::default();
-    h.write(&out);
-    out.extend_from_slice(&h.finish().to_le_bytes());
-    write_atomically(path, |tmp| {
-        std::fs::write(tmp, &out).map_err(|source| Error::Write {
-            path: path.to_owned(),
-            source,
-        })
-    })
+    });
+    write_file(path, &bytes)
 }
 
 /// Whether the file at `path` starts like a sample part (rather than a PPM part).
 pub fn is_sample_part(bytes: &[u8]) -> bool {
-    bytes.starts_with(MAGIC)
+    SAMPLE_PART.is_format_of(bytes)
 }
 
 /// Read a part written by [`save`], checked whole: magic, version, checksum, sizes.
@@ -123,29 +119,11 @@ pub fn load(path: &Path) -> Result<(SampleSums, PartOrigin)> {
 
 /// [`load`] on bytes in memory (also what the fuzzer drives).
 pub fn decode(bytes: &[u8]) -> Result<(SampleSums, PartOrigin), String> {
-    if bytes.len() < 24 || !is_sample_part(bytes) {
-        return Err("not a Photon sample part (bad magic number)".into());
-    }
-    let u32_at =
-        |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
-    let version = u32_at(8);
-    if version != SAMPLE_PART_VERSION {
-        return Err(format!(
-            "sample part version {version}; this Photon reads {SAMPLE_PART_VERSION}"
-        ));
-    }
-    let (body, tail) = bytes.split_at(bytes.len() - 8);
-    let mut h = Fnv1a::default();
-    h.write(body);
-    if h.finish() != u64::from_le_bytes(tail.try_into().expect("8 bytes")) {
-        return Err("checksum mismatch: the part is truncated or corrupted".into());
-    }
-    let header_len = u32_at(12) as usize;
-    if header_len > MAX_HEADER || 16 + header_len > body.len() {
-        return Err("truncated header".into());
-    }
-    let hd: Header = serde_json::from_slice(&body[16..16 + header_len])
-        .map_err(|e| format!("unreadable header: {e}"))?;
+    let Contents {
+        header: hd,
+        body: data,
+        ..
+    } = container::decode::<Header>(&SAMPLE_PART, bytes)?;
     if hd.width == 0 || hd.height == 0 || hd.width > MAX_RESOLUTION || hd.height > MAX_RESOLUTION {
         return Err(format!(
             "resolution {}×{} out of range",
@@ -155,7 +133,6 @@ pub fn decode(bytes: &[u8]) -> Result<(SampleSums, PartOrigin), String> {
     if hd.samples == 0 || hd.samples > hd.spp {
         return Err(format!("{} samples of {} per pixel", hd.samples, hd.spp));
     }
-    let data = &body[16 + header_len..];
     let slots = hd.width as usize * hd.height as usize * if hd.splits_components { 4 } else { 1 };
     // Every slot takes at least 4 bytes: a short file cannot claim a huge image.
     if data.len() < slots * 4 {
@@ -176,7 +153,7 @@ pub fn decode(bytes: &[u8]) -> Result<(SampleSums, PartOrigin), String> {
         }
         let count = get_varint(data, &mut at).ok_or_else(truncated)?;
         let count = u32::try_from(count).map_err(|_| truncated())?;
-        sums.push((sum, count));
+        sums.push((FixedRgb(sum), count));
     }
     if at != data.len() {
         return Err("trailing bytes after the pixel data".into());

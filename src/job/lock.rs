@@ -5,7 +5,7 @@
 //! (its holder, on whatever host, has stopped).
 
 use crate::error::{Error, Result};
-use crate::io::image::{host_name, process_is_running};
+use crate::io::atomic::{host_name, process_is_running};
 use serde::{Deserialize, Serialize};
 use std::fs;
 use std::io::Write;

@@ -91,18 +91,7 @@ impl Merger {
         match (&mut self.sum, part) {
             (None, part) => self.sum = Some(part),
             (Some(Part::Passes(sum)), Part::Passes(p)) => {
-                if p.config != sum.config || p.scene_hash != sum.scene_hash {
-                    return Err(Error::InvalidSetting(
-                        "the parts differ in scene or settings".into(),
-                    ));
-                }
-                for (a, b) in sum.ppm.iter_mut().zip(&p.ppm) {
-                    for k in 0..3 {
-                        a[k] = a[k].saturating_add(b[k]);
-                    }
-                }
-                sum.passes += p.passes;
-                sum.first_pass = sum.first_pass.min(p.first_pass);
+                sum.add_passes(&p)?;
             }
             (Some(Part::Samples(sum, origin)), Part::Samples(s, o)) => {
                 if (&o.scene_hash, &o.settings) != (&origin.scene_hash, &origin.settings) {

@@ -14,7 +14,7 @@ pub mod part_file;
 pub use merge::{Merger, Part, decode_part, load_part};
 
 use crate::error::{Error, Result};
-use crate::scene::Fnv1a;
+use crate::hash::fnv1a;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -210,12 +210,7 @@ impl Manifest {
         })?;
         let text = toml::to_string(self)
             .map_err(|e| Error::InvalidSetting(format!("cannot write the manifest: {e}")))?;
-        crate::io::image::write_atomically(&path, |tmp| {
-            std::fs::write(tmp, text).map_err(|source| Error::Write {
-                path: path.clone(),
-                source,
-            })
-        })
+        crate::io::atomic::write_file(&path, &text)
     }
 
     /// The task range flag for `photon render`: `--pass-range` or `--sample-range`.
@@ -265,9 +260,7 @@ pub fn split(total: u64, tasks: u64) -> Result<Vec<[u64; 2]>> {
 }
 
 pub fn fnv64_hex(bytes: &[u8]) -> String {
-    let mut h = Fnv1a::default();
-    h.write(bytes);
-    format!("{:016x}", h.finish())
+    format!("{:016x}", fnv1a(bytes))
 }
 
 /// Where task `task`'s part goes.
@@ -334,12 +327,7 @@ pub fn copy_scene_files(
                 source,
             })?;
         }
-        crate::io::image::write_atomically(&destination, |tmp| {
-            std::fs::write(tmp, &bytes).map_err(|source| Error::Write {
-                path: destination.clone(),
-                source,
-            })
-        })?;
+        crate::io::atomic::write_file(&destination, &bytes)?;
         entries.push(JobFile {
             path: portable(&inside),
             bytes: bytes.len() as u64,
@@ -439,12 +427,7 @@ pub fn promote_part(job: &Path, manifest: &Manifest, i: usize, rendered: &Path) 
     };
     let labelled = part_file::encode(&label, &bytes);
     let path = part_path(job, i);
-    crate::io::image::write_atomically(&path, |tmp| {
-        std::fs::write(tmp, &labelled).map_err(|source| Error::Write {
-            path: path.clone(),
-            source,
-        })
-    })?;
+    crate::io::atomic::write_file(&path, &labelled)?;
     Ok(true)
 }
 
@@ -510,7 +493,7 @@ mod tests {
             spp: 2,
             samples,
             splits_components: false,
-            sums: vec![([value; 3], samples)],
+            sums: vec![(crate::film::FixedRgb([value; 3]), samples)],
         };
         let origin = crate::io::sample_part::PartOrigin {
             scene: "cornell".into(),

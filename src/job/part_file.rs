@@ -5,16 +5,23 @@
 //! "PHOTONJP" | version u32 | label length u32 | JSON label (job, scene hash, task, range)
 //! | the bare part, whole | FNV-1a 64 checksum of everything before it
 //! ```
+//! ([`crate::io::container`]'s layout).
 //! The label must agree with the bare part inside (its range and scene hash), and the job's
 //! manifest decides whether the label is its own ([`super::Manifest::check_part_label`]).
 
 use super::merge::{Part, decode_part};
-use crate::scene::Fnv1a;
+use crate::io::container::{self, Contents, Format};
 use serde::{Deserialize, Serialize};
 
-pub const MAGIC: &[u8; 8] = b"PHOTONJP";
 pub const JOB_PART_VERSION: u32 = 1;
-const MAX_LABEL: usize = 1 << 16;
+/// The container of job part files: the label is its header, the bare part its body.
+const JOB_PART: Format = Format {
+    magic: b"PHOTONJP",
+    version: JOB_PART_VERSION,
+    fixed_words: 0,
+    max_header: 1 << 16,
+    noun: "job part",
+};
 
 /// Which job, scene and task a part was rendered for.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -31,51 +38,25 @@ pub struct PartLabel {
 
 /// Whether `bytes` start like a job's part file.
 pub fn is_job_part(bytes: &[u8]) -> bool {
-    bytes.starts_with(MAGIC)
+    JOB_PART.is_format_of(bytes)
 }
 
 /// `part` (the bytes of a bare part) with `label`.
 pub fn encode(label: &PartLabel, part: &[u8]) -> Vec<u8> {
-    let json = serde_json::to_vec(label).expect("a label is plain data");
-    let mut out = Vec::with_capacity(24 + json.len() + part.len());
-    out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&JOB_PART_VERSION.to_le_bytes());
-    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    out.extend_from_slice(&json);
-    out.extend_from_slice(part);
-    let mut h = Fnv1a::default();
-    h.write(&out);
-    out.extend_from_slice(&h.finish().to_le_bytes());
-    out
+    container::encode(&JOB_PART, &[], label, part.len(), |out| {
+        out.extend_from_slice(part);
+    })
 }
 
 /// The label and the part of a job's part file, checked whole: magic, version, checksum, and
 /// that the label describes the part inside.
 pub fn decode(bytes: &[u8]) -> Result<(PartLabel, Part), String> {
-    if bytes.len() < 24 || !is_job_part(bytes) {
-        return Err("not a part of a Photon job (bad magic number)".into());
-    }
-    let u32_at =
-        |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
-    let version = u32_at(8);
-    if version != JOB_PART_VERSION {
-        return Err(format!(
-            "job part version {version}; this Photon reads {JOB_PART_VERSION}"
-        ));
-    }
-    let (body, tail) = bytes.split_at(bytes.len() - 8);
-    let mut h = Fnv1a::default();
-    h.write(body);
-    if h.finish() != u64::from_le_bytes(tail.try_into().expect("8 bytes")) {
-        return Err("checksum mismatch: the part is truncated or corrupted".into());
-    }
-    let label_len = u32_at(12) as usize;
-    if label_len > MAX_LABEL || 16 + label_len > body.len() {
-        return Err("truncated label".into());
-    }
-    let label: PartLabel = serde_json::from_slice(&body[16..16 + label_len])
-        .map_err(|e| format!("unreadable label: {e}"))?;
-    let part = decode_part(&body[16 + label_len..])?;
+    let Contents {
+        header: label,
+        body,
+        ..
+    } = container::decode::<PartLabel>(&JOB_PART, bytes)?;
+    let part = decode_part(body)?;
     let (start, end) = part.range();
     if [start, end] != label.range || part.scene_hash() != label.scene_hash {
         return Err(format!(

@@ -91,6 +91,18 @@ impl Light {
         }
     }
 
+    /// Solid-angle density with which [`Light::sample_li`] from `p` picks the point `q` on the
+    /// light's surface (normal `n`): what multiple importance sampling weighs a BSDF sample
+    /// that hit the light against. Zero for lights with no surface a ray can hit: delta
+    /// lights, which no BSDF sample finds, and the sky, which rays meet by leaving the scene
+    /// (its density is [`EnvironmentLight::pdf`] of the direction).
+    pub fn pdf_li(&self, p: Vec3, q: Vec3, n: Vec3) -> f32 {
+        match self {
+            Light::Area(l) => l.pdf_li(p, q, n),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => 0.0,
+        }
+    }
+
     pub fn is_delta(&self) -> bool {
         !matches!(self, Light::Area(_) | Light::Environment(_))
     }

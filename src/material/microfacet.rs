@@ -27,14 +27,19 @@ impl Ggx {
         }
     }
 
-    /// Whether the distribution is so narrow that it is a delta lobe.
+    /// Whether the distribution is so narrow that it is a delta lobe: narrow every way, in
+    /// both tangent directions.
     pub fn is_delta(&self) -> bool {
         self.alpha_x.max(self.alpha_y) < DELTA_ALPHA
     }
 
-    /// The larger of the two roughnesses.
-    pub fn alpha(&self) -> f32 {
-        self.alpha_x.max(self.alpha_y)
+    /// How broad the lobe is, for every decision that depends on it (rough or near-specular
+    /// part, see [`super::NEAR_SPECULAR_ALPHA`]; read from the irradiance cache as if
+    /// diffuse): the roughness of its narrowest direction. A lobe counts as broad only if it
+    /// is broad every way, since the share of a disc's photons it catches, which those
+    /// thresholds bound, shrinks with either α (about as αx·αy).
+    pub fn narrowest_alpha(&self) -> f32 {
+        self.alpha_x.min(self.alpha_y)
     }
 
     /// Normal distribution D(m), normalised so that ∫ D(m) cos θm dω = 1.

@@ -26,6 +26,7 @@ pub use pbr::Pbr;
 pub use rough_dielectric::RoughDielectric;
 
 use crate::math::{Rgb, Vec2, Vec3, luminance};
+use microfacet::Ggx;
 
 /// Glossy lobes narrower than this GGX α are *near-specular*: camera paths continue through
 /// them (sampling the lobe) and photons pass them by, as for mirrors and glass; wider lobes are
@@ -201,16 +202,13 @@ impl Material {
         }
     }
 
-    /// Whether any of the material's lobes belongs to `part`.
+    /// Whether any of the material's lobes belongs to `part`. Every material but `pbr` has
+    /// one lobe (a union of flags), which [`Part::includes`] places with its α.
     #[inline]
     pub fn has(&self, part: Part) -> bool {
         match self {
-            Material::Lambertian(_) => part != Part::Smooth,
-            Material::Mirror(_) | Material::Dielectric(_) | Material::RoughDielectric(_) => {
-                part != Part::Rough
-            }
-            Material::Conductor(m) => part.includes(m.lobes(), m.ggx.alpha()),
             Material::Pbr(m) => m.has(part),
+            _ => part.includes(self.lobes(), self.ggx().map_or(0.0, Ggx::narrowest_alpha)),
         }
     }
 
@@ -223,17 +221,23 @@ impl Material {
         }
     }
 
-    /// The smallest GGX α among the material's glossy lobes in `part` (∞ without any).
+    /// The microfacet distribution of the material's glossy lobes, if it has any.
+    fn ggx(&self) -> Option<&Ggx> {
+        match self {
+            Material::Conductor(m) => Some(&m.ggx),
+            Material::RoughDielectric(m) => Some(&m.ggx),
+            Material::Pbr(m) => Some(&m.ggx),
+            Material::Lambertian(_) | Material::Mirror(_) | Material::Dielectric(_) => None,
+        }
+    }
+
+    /// The GGX α of the material's glossy lobes in `part` ([`Ggx::narrowest_alpha`]; ∞
+    /// without any).
     pub fn glossy_alpha(&self, part: Part) -> f32 {
         if !self.part_lobes(part).contains(Lobes::GLOSSY) {
             return f32::INFINITY;
         }
-        match self {
-            Material::Conductor(m) => m.ggx.alpha_x.min(m.ggx.alpha_y),
-            Material::RoughDielectric(m) => m.ggx.alpha(),
-            Material::Pbr(m) => m.ggx.alpha(),
-            _ => f32::INFINITY,
-        }
+        self.ggx().map_or(f32::INFINITY, Ggx::narrowest_alpha)
     }
 
     /// True when every lobe is a delta: no density, so next-event estimation is pointless.
@@ -406,11 +410,12 @@ impl Material {
 
     /// Whether a sampled lobe belongs to the smooth part (see [`Part`]).
     pub fn is_smooth_lobe(&self, lobe: Lobes) -> bool {
-        let alpha = match self {
-            Material::Conductor(m) => m.ggx.alpha(),
-            Material::Pbr(m) => m.ggx.alpha(),
-            _ => 0.0,
-        };
+        // Every lobe of a material without a rough part is smooth: dielectrics are smooth at
+        // any roughness.
+        if !self.has(Part::Rough) {
+            return true;
+        }
+        let alpha = self.ggx().map_or(0.0, Ggx::narrowest_alpha);
         Part::Smooth.includes(lobe, alpha)
     }
 

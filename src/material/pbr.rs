@@ -105,7 +105,8 @@ impl Pbr {
     fn uses(&self, part: Part) -> Use {
         Use {
             diffuse: self.has_diffuse() && part.includes(Lobes::DIFFUSE_REFLECTION, 1.0),
-            specular: self.has_specular() && part.includes(self.specular_lobe(), self.ggx.alpha()),
+            specular: self.has_specular()
+                && part.includes(self.specular_lobe(), self.ggx.narrowest_alpha()),
         }
     }
 

@@ -13,6 +13,9 @@
 //! Direct light comes from next-event estimation at the visible points; photons that came
 //! straight from a light are not used. Pass p uses the random streams keyed by (seed, p) only.
 
+mod pixels;
 pub mod state;
+
+pub use pixels::{Pixels, SppmPixel};
 
 pub use state::{Method, PassSeconds, PassStats, ProgressiveConfig, ProgressiveState};

@@ -1,3 +1,4 @@
+use super::pixels::{Pixels, add_finite, sppm_update};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter};
@@ -60,9 +61,6 @@ pub struct ProgressiveConfig {
     pub light_samples: u32,
 }
 
-/// Fixed-point scale of the PPM pass sums (2⁻²⁴ W·m⁻²·sr⁻¹ resolution).
-const FIXED: f64 = 16_777_216.0;
-
 impl ProgressiveConfig {
     pub fn validate(&self) -> Result<()> {
         let bad = |m: String| Err(Error::InvalidSetting(m));
@@ -101,16 +99,6 @@ impl ProgressiveConfig {
     }
 }
 
-/// One SPPM pixel (pbrt-v4's SPPMPixel in spirit): radius², photon count N, flux τ, and the
-/// sum of the direct light of all passes.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SppmPixel {
-    pub r2: f64,
-    pub n: f64,
-    pub tau: [f64; 3],
-    pub direct: [f64; 3],
-}
-
 /// Accumulated state: what a checkpoint holds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProgressiveState {
@@ -121,11 +109,8 @@ pub struct ProgressiveState {
     pub first_pass: u64,
     /// Passes accumulated so far (from `first_pass`).
     pub passes: u64,
-    pub sppm: Vec<SppmPixel>,
-    /// PPM: per pixel, the sum over passes of the radiance in fixed point (128 bits: 64 wrapped
-    /// to negative pixels for a light of radiance 3·10¹¹ at 2 passes; saturating, never
-    /// wrapping, even for the largest f32).
-    pub ppm: Vec<[i128; 3]>,
+    /// Every pixel's accumulated light, in the method's form.
+    pub pixels: Pixels,
     /// Memory each pass reuses; not part of the state.
     pub buffers: PassBuffers,
 }
@@ -186,16 +171,7 @@ impl ProgressiveState {
             scene_hash: scene.content_hash(),
             first_pass,
             passes: 0,
-            sppm: if config.method == Method::Sppm {
-                vec![SppmPixel::default(); n]
-            } else {
-                Vec::new()
-            },
-            ppm: if config.method == Method::Ppm {
-                vec![[0; 3]; n]
-            } else {
-                Vec::new()
-            },
+            pixels: Pixels::new(config.method, n),
             config,
             buffers: PassBuffers::default(),
         })
@@ -238,7 +214,10 @@ impl ProgressiveState {
         // 1. Every pixel's camera path: its direct light and visible point.
         let mut slots = std::mem::take(&mut self.buffers.points);
         slots.resize(width * c.height as usize, PassSlot::default());
-        let sppm = &self.sppm;
+        let sppm = match &self.pixels {
+            Pixels::Sppm(px) => px.as_slice(),
+            Pixels::Ppm(_) => &[],
+        };
         let rays = camera_paths(&mut slots, width, &stopped, |x, y, stats| {
             let (ray, mut rng) = camera_ray(&camera, &c, &jitter, pass, x, y);
             let pixel = y * width + x;
@@ -296,8 +275,8 @@ impl ProgressiveState {
     /// (SPPM: the α rule on the radius the pixel had, or the initial one).
     fn apply(&mut self, slots: &[PassSlot], initial_r: &(impl Fn(&VisiblePoint) -> f32 + Sync)) {
         let alpha = self.config.alpha;
-        match self.config.method {
-            Method::Sppm => self.sppm.par_iter_mut().zip(slots).for_each(|(px, slot)| {
+        match &mut self.pixels {
+            Pixels::Sppm(pixels) => pixels.par_iter_mut().zip(slots).for_each(|(px, slot)| {
                 add_finite(&mut px.direct, slot.direct);
                 if let Some(v) = &slot.point {
                     if px.r2 == 0.0 {
@@ -306,14 +285,14 @@ impl ProgressiveState {
                     sppm_update(px, alpha, slot.phi, slot.m);
                 }
             }),
-            Method::Ppm => self.ppm.par_iter_mut().zip(slots).for_each(|(px, slot)| {
-                add_fixed(px, slot.direct);
+            Pixels::Ppm(pixels) => pixels.par_iter_mut().zip(slots).for_each(|(px, slot)| {
+                px.add_finite(slot.direct);
                 if let Some(v) = &slot.point
                     && slot.m > 0
                 {
                     // In f64: π r² underflows f32 for tiny radii.
                     let inv_area = 1.0 / (PI * f64::from(v.r2));
-                    add_fixed(px, Rgb::from_array(slot.phi.map(|x| (x * inv_area) as f32)));
+                    px.add_finite(Rgb::from_array(slot.phi.map(|x| (x * inv_area) as f32)));
                 }
             }),
         }
@@ -324,9 +303,9 @@ impl ProgressiveState {
         let c = &self.config;
         let mut img = Image::new(c.width, c.height);
         let passes = self.passes.max(1) as f64;
-        match c.method {
-            Method::Sppm => {
-                for (i, px) in self.sppm.iter().enumerate() {
+        match &self.pixels {
+            Pixels::Sppm(pixels) => {
+                for (i, px) in pixels.iter().enumerate() {
                     let mut l = [0.0f32; 3];
                     for (k, v) in l.iter_mut().enumerate() {
                         let photons = if px.r2 > 0.0 {
@@ -339,48 +318,61 @@ impl ProgressiveState {
                     img.pixels[i] = Rgb::from_array(l);
                 }
             }
-            Method::Ppm => {
-                for (i, px) in self.ppm.iter().enumerate() {
-                    img.pixels[i] = Rgb::from_array(px.map(|v| (v as f64 / FIXED / passes) as f32));
+            Pixels::Ppm(pixels) => {
+                for (i, px) in pixels.iter().enumerate() {
+                    img.pixels[i] = px.mean(passes);
                 }
             }
         }
         img
     }
 
-    /// Combine PPM partial renders (any order) into one state; they must share the
-    /// configuration and scene and cover contiguous, non-overlapping pass ranges.
+    /// Add the passes of another PPM state of the same scene and settings: the one rule by
+    /// which partial renders combine, exactly (the sums are fixed point). The caller decides
+    /// which ranges may be combined; the state then starts at the earlier first pass.
+    pub fn add_passes(&mut self, other: &ProgressiveState) -> Result<()> {
+        let bad = |m: &str| Err(Error::InvalidSetting(m.into()));
+        let (Pixels::Ppm(sum), Pixels::Ppm(add)) = (&mut self.pixels, &other.pixels) else {
+            return bad(
+                "only ppm partial renders can be merged (sppm passes depend on each other)",
+            );
+        };
+        if other.config != self.config || other.scene_hash != self.scene_hash {
+            return bad("the parts differ in scene or settings");
+        }
+        for (a, b) in sum.iter_mut().zip(add) {
+            a.add(b);
+        }
+        self.passes += other.passes;
+        self.first_pass = self.first_pass.min(other.first_pass);
+        Ok(())
+    }
+
+    /// Combine PPM partial renders (any order) into one state of one pass range: they must
+    /// cover contiguous, non-overlapping ranges, and combine by [`Self::add_passes`].
     pub fn merge(mut parts: Vec<ProgressiveState>) -> Result<ProgressiveState> {
-        let bad = |m: String| Err(Error::InvalidSetting(m));
         if parts.is_empty() {
-            return bad("nothing to merge".into());
+            return Err(Error::InvalidSetting("nothing to merge".into()));
         }
         parts.sort_by_key(|p| p.first_pass);
-        let mut out = parts[0].clone();
+        let mut rest = parts.into_iter();
+        let mut out = rest.next().expect("one part at least");
         if out.config.method != Method::Ppm {
-            return bad(
+            return Err(Error::InvalidSetting(
                 "only ppm partial renders can be merged (sppm passes depend on each other)".into(),
-            );
+            ));
         }
-        for p in &parts[1..] {
-            if p.config != out.config || p.scene_hash != out.scene_hash {
-                return bad("the partial renders differ in scene or settings".into());
-            }
+        for p in rest {
             if p.first_pass != out.next_pass() {
-                return bad(format!(
+                return Err(Error::InvalidSetting(format!(
                     "pass ranges do not join: {}..{} then {}..{}",
                     out.first_pass,
                     out.next_pass(),
                     p.first_pass,
                     p.next_pass()
-                ));
+                )));
             }
-            for (a, b) in out.ppm.iter_mut().zip(&p.ppm) {
-                for k in 0..3 {
-                    a[k] = a[k].saturating_add(b[k]);
-                }
-            }
-            out.passes += p.passes;
+            out.add_passes(&p)?;
         }
         Ok(out)
     }
@@ -563,40 +555,4 @@ fn camera_ray(
     let u = Vec2::from_array(jitter.position(pixel));
     let pos = PixelFilter::Box.sample_position(x as u32, y as u32, u);
     (camera.ray(pos), rng)
-}
-
-/// Adds the finite channels of `l` to `sum`: a NaN or infinity from one sample must not poison
-/// a pixel for good, and dropping only the bad channel keeps the rest of the light.
-fn add_finite(sum: &mut [f64; 3], l: Rgb) {
-    for (s, v) in sum.iter_mut().zip(l.to_array()) {
-        if v.is_finite() {
-            *s += f64::from(v);
-        }
-    }
-}
-
-/// Add the finite channels of `l` to a PPM pixel's fixed-point sums (`as` saturates, and so
-/// does the sum).
-fn add_fixed(px: &mut [i128; 3], l: Rgb) {
-    for (s, v) in px.iter_mut().zip(l.to_array()) {
-        if v.is_finite() {
-            *s = s.saturating_add((f64::from(v) * FIXED).round() as i128);
-        }
-    }
-}
-
-/// SPPM's update of a pixel by the `m` photons of a pass (Hachisuka & Jensen 2009, eq. 6–7):
-/// N ← N + αM, r² ← r² (N + αM)/(N + M), τ ← (τ + Φ) r²_new / r²_old.
-fn sppm_update(px: &mut SppmPixel, alpha: f64, phi: [f64; 3], m: u32) {
-    if m == 0 {
-        return;
-    }
-    let m = f64::from(m);
-    let n_new = px.n + alpha * m;
-    let r2_new = px.r2 * n_new / (px.n + m);
-    for (tau, phi) in px.tau.iter_mut().zip(phi) {
-        *tau = (*tau + phi) * (r2_new / px.r2);
-    }
-    px.n = n_new;
-    px.r2 = r2_new;
 }

@@ -26,6 +26,7 @@ pub struct TriangleMesh {
 use crate::accel::RayEngine;
 use crate::camera::CameraDesc;
 use crate::geometry::{Bounds, Shape};
+use crate::hash::Fnv1a;
 use crate::light::{EnvironmentLight, Light};
 use crate::material::{Attenuation, Material, Pbr};
 use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
@@ -572,27 +573,4 @@ fn blend_hash(ray: &Ray, prim: u32) -> f32 {
         h = crate::sampling::mix64(h ^ u64::from(x.to_bits()));
     }
     (h >> 40) as f32 / (1u64 << 24) as f32
-}
-
-/// 64-bit FNV-1a: simple, stable across platforms and versions.
-#[derive(Clone, Copy, Debug)]
-pub struct Fnv1a(u64);
-
-impl Default for Fnv1a {
-    fn default() -> Self {
-        Self(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv1a {
-    pub fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 ^= u64::from(b);
-            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
-        }
-    }
-
-    pub fn finish(&self) -> u64 {
-        self.0
-    }
 }

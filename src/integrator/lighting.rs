@@ -1,0 +1,272 @@
+//! Next-event estimation: light reaching a shading point sampled from the lights, and the
+//! weights of multiple importance sampling (Veach & Guibas 1995, power heuristic) that
+//! combine those samples with the BSDF's. Every integrator lights its points here; each
+//! passes what it needs (its light-sample count), and none names a kind of light.
+
+use super::{RayStats, ShadingPoint};
+use crate::light::LightSample;
+use crate::material::{Part, TransportMode};
+use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::sampling::{Rng, Sampler};
+use crate::scene::{Hit, NO_LIGHT, Scene};
+
+/// Unoccluded contribution f·L·|cos|/pdf of one light sample, before any MIS weight; zero if
+/// the light is hidden. Also returns the BSDF's density for the same direction (for MIS).
+pub(crate) fn light_sample_contribution(
+    scene: &Scene,
+    sp: &ShadingPoint,
+    ls: &LightSample,
+    stats: &mut RayStats,
+) -> Option<(Rgb, f32)> {
+    let wi_local = sp.frame.to_local(ls.wi);
+    let f = sp
+        .material
+        .eval(sp.wo_local, wi_local, TransportMode::Radiance);
+    if f == Rgb::ZERO {
+        return None;
+    }
+    let value = shadowed(scene, sp, ls, f, stats);
+    (value != Rgb::ZERO).then(|| (value, sp.material.pdf(sp.wo_local, wi_local)))
+}
+
+/// f·L·|cos|/pdf of one light sample for the BSDF value `f`, or zero if the light is hidden.
+pub(crate) fn shadowed(
+    scene: &Scene,
+    sp: &ShadingPoint,
+    ls: &LightSample,
+    f: Rgb,
+    stats: &mut RayStats,
+) -> Rgb {
+    if f == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    stats.shadow += 1;
+    if !unoccluded(scene, sp.hit, ls) {
+        return Rgb::ZERO;
+    }
+    f * ls.radiance * (sp.frame.n.dot(ls.wi).abs() / ls.pdf)
+}
+
+/// Whether the segment from the shading point to the light sample is free. Both ends are moved
+/// off their surfaces (the light's end toward the shading point), and the ray runs between the
+/// moved ends: reusing the direction and length measured from the unmoved point made the
+/// segment cross the light's own plane when a surface saw the light at a grazing angle, so the
+/// light shadowed itself (a patch beside a quad light lost 63% of its irradiance).
+fn unoccluded(scene: &Scene, hit: &Hit, ls: &LightSample) -> bool {
+    let origin = offset_origin(hit.p, hit.ng, ls.wi);
+    if ls.is_delta {
+        // A point has no surface to shadow itself with.
+        return !scene.occluded(origin, ls.wi, (ls.point - origin).length());
+    }
+    let target = offset_origin(ls.point, ls.normal, origin - ls.point);
+    let d = target - origin;
+    let dist = d.length();
+    dist > 0.0 && !scene.occluded(origin, d / dist, dist)
+}
+
+/// Power heuristic with β = 2 (Veach & Guibas 1995).
+pub(crate) fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
+    let a = pdf_a * pdf_a;
+    let b = pdf_b * pdf_b;
+    if a + b == 0.0 { 0.0 } else { a / (a + b) }
+}
+
+/// Solid-angle density with which light sampling (choice by power, then the light's own
+/// sampling) would have produced the direction from `from` to the emitter `hit`.
+pub(crate) fn light_pdf_for_hit(scene: &Scene, from: Vec3, hit: &Hit) -> f32 {
+    let i = hit.light as usize;
+    scene.light_choice_pmf(i) * own_light_pdf_for_hit(scene, from, hit)
+}
+
+/// Solid-angle density with which the emitter `hit`'s own sampling produces the direction
+/// from `from` (no choice between lights: [`direct_light`] samples every light).
+fn own_light_pdf_for_hit(scene: &Scene, from: Vec3, hit: &Hit) -> f32 {
+    scene.lights()[hit.light as usize].pdf_li(from, hit.p, hit.ng)
+}
+
+/// Light arriving directly from every light, averaged over `light_samples` samples for area
+/// lights and the sky, through every lobe with a density.
+///
+/// The rough part is estimated by multiple importance sampling (Veach & Guibas 1995, power
+/// heuristic, with the sample counts) where light sampling alone would be poor
+/// ([`crate::light::Light::is_bsdf_sampled_at`]: the sky, and area lights seen from close by, where the 1/r²
+/// of the area measure makes its variance unbounded): `light_samples` samples of each such
+/// light, and samples of the rough part of the BSDF (as many under a sky, one otherwise), which
+/// count the emission or sky they find there.
+///
+/// `continued` is the probability with which the caller's walk also samples the material's
+/// smooth part here (and so may hit the same light): the smooth lobes' share of each light
+/// sample is then weighted by the power heuristic against that sampling (with the sample
+/// counts: n light samples, one BSDF sample), and the walk weights its emission hits by
+/// [`emission_weight`]. `None`: the walk never counts emission it finds through lobes with a
+/// density.
+pub(crate) fn direct_light(
+    light_samples: u32,
+    scene: &Scene,
+    sp: &ShadingPoint,
+    continued: Option<f32>,
+    rng: &mut impl Sampler,
+    stats: &mut RayStats,
+) -> Rgb {
+    let m = &sp.material;
+    let mis = continued.filter(|_| m.has(Part::Smooth));
+    let has_smooth = m.has(Part::Smooth);
+    let has_rough = m.has(Part::Rough);
+    let n = light_samples.max(1);
+    let mut sum = Rgb::ZERO;
+    let mut any_bsdf_sampled = false;
+    // Under a sky, which every rough point sees, as many BSDF samples as light samples (the
+    // BSDF is often the narrower factor there); otherwise one, for the near area lights.
+    let bsdf_samples = if scene.environment().is_some() { n } else { 1 };
+    let counts = BsdfCounts {
+        light: n as f32,
+        bsdf: bsdf_samples as f32,
+    };
+    for light in scene.lights() {
+        let samples = if light.is_delta() { 1 } else { n };
+        let bsdf_sampled = has_rough && light.is_bsdf_sampled_at(sp.hit.p);
+        any_bsdf_sampled |= bsdf_sampled;
+        let mut acc = Rgb::ZERO;
+        for _ in 0..samples {
+            let u_pick = rng.next_f32();
+            let Some(ls) = light.sample_li(sp.hit.p, u_pick, rng.next_2d()) else {
+                continue;
+            };
+            let wi = sp.frame.to_local(ls.wi);
+            let mut f = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Rough);
+            if bsdf_sampled {
+                let p_bsdf = m.pdf_part(sp.wo_local, wi, Part::Rough);
+                f *= power_heuristic(counts.light * ls.pdf, counts.bsdf * p_bsdf);
+            }
+            if has_smooth {
+                let smooth = m.eval_part(sp.wo_local, wi, TransportMode::Radiance, Part::Smooth);
+                f += match mis {
+                    Some(p_continue) if !ls.is_delta => {
+                        let p_bsdf = p_continue * m.pdf_part(sp.wo_local, wi, Part::Smooth);
+                        smooth * power_heuristic(n as f32 * ls.pdf, p_bsdf)
+                    }
+                    _ => smooth,
+                };
+            }
+            acc += shadowed(scene, sp, &ls, f, stats);
+        }
+        sum += acc / samples as f32;
+    }
+    if any_bsdf_sampled {
+        let mut acc = Rgb::ZERO;
+        for _ in 0..bsdf_samples {
+            acc += emission_by_rough_bsdf(scene, sp, counts, rng, stats);
+        }
+        sum += acc / counts.bsdf;
+    }
+    sum
+}
+
+/// How many light samples (per light) and rough BSDF samples direct lighting takes at a point:
+/// the sample counts of the power heuristic.
+#[derive(Clone, Copy)]
+struct BsdfCounts {
+    light: f32,
+    bsdf: f32,
+}
+
+/// One sample of the rough part: the emission or sky it finds, if direct lighting at this
+/// point samples that light by BSDF too, weighted by the power heuristic with the counts.
+fn emission_by_rough_bsdf(
+    scene: &Scene,
+    sp: &ShadingPoint,
+    counts: BsdfCounts,
+    rng: &mut impl Sampler,
+    stats: &mut RayStats,
+) -> Rgb {
+    let u_lobe = rng.next_f32();
+    let Some(s) = sp.material.sample_part(
+        sp.wo_local,
+        u_lobe,
+        rng.next_2d(),
+        TransportMode::Radiance,
+        Part::Rough,
+    ) else {
+        return Rgb::ZERO;
+    };
+    let wi = sp.frame.to_world(s.wi);
+    stats.shadow += 1;
+    let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
+    let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
+        return match scene.environment() {
+            Some((_, sky)) => {
+                s.weight
+                    * sky.radiance(wi)
+                    * power_heuristic(counts.bsdf * s.pdf, counts.light * sky.pdf(wi))
+            }
+            None => Rgb::ZERO,
+        };
+    };
+    if hit.light == NO_LIGHT || !scene.lights()[hit.light as usize].is_bsdf_sampled_at(sp.hit.p) {
+        return Rgb::ZERO;
+    }
+    let le = scene.emitted(&hit, -wi);
+    if le == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let p_light = own_light_pdf_for_hit(scene, sp.hit.p, &hit);
+    s.weight * le * power_heuristic(counts.bsdf * s.pdf, counts.light * p_light)
+}
+
+/// The MIS weight of emission found by sampling the smooth part of the previous vertex (with
+/// density `p_bsdf`, selection included), against [`direct_light`]'s light samples there.
+pub(crate) fn emission_weight(
+    light_samples: u32,
+    scene: &Scene,
+    from: Vec3,
+    hit: &Hit,
+    p_bsdf: f32,
+) -> f32 {
+    let p_light = own_light_pdf_for_hit(scene, from, hit);
+    power_heuristic(p_bsdf, light_samples.max(1) as f32 * p_light)
+}
+
+/// Light from the environment along a ray that left the scene, weighted like
+/// [`emission_weight`] when it left by sampling a glossy smooth lobe with density `p_bsdf`.
+pub(crate) fn escaped_radiance(
+    light_samples: u32,
+    scene: &Scene,
+    dir: Vec3,
+    p_bsdf: Option<f32>,
+) -> Rgb {
+    let Some((_, env)) = scene.environment() else {
+        return Rgb::ZERO;
+    };
+    let w = p_bsdf.map_or(1.0, |p| {
+        power_heuristic(p, light_samples.max(1) as f32 * env.pdf(dir))
+    });
+    env.radiance(dir) * w
+}
+
+/// One light, chosen by power, sampled once; MIS-weighted against BSDF sampling for area lights.
+pub(crate) fn one_light_by_power(
+    scene: &Scene,
+    sp: &ShadingPoint,
+    rng: &mut Rng,
+    stats: &mut RayStats,
+) -> Rgb {
+    let u_choose = rng.next_f32();
+    let u_pick = rng.next_f32();
+    let u = rng.next_2d();
+    let Some((i, pmf, _)) = scene.choose_light(u_choose) else {
+        return Rgb::ZERO;
+    };
+    let light = &scene.lights()[i];
+    let Some(mut ls) = light.sample_li(sp.hit.p, u_pick, u) else {
+        return Rgb::ZERO;
+    };
+    ls.pdf *= pmf;
+    let Some((value, bsdf_pdf)) = light_sample_contribution(scene, sp, &ls, stats) else {
+        return Rgb::ZERO;
+    };
+    if ls.is_delta {
+        value
+    } else {
+        value * power_heuristic(ls.pdf, bsdf_pdf)
+    }
+}
