@@ -29,6 +29,10 @@ pub enum Error {
     #[error("invalid setting: {0}")]
     InvalidSetting(String),
 
+    /// A problem with one render setting's value (see `settings`).
+    #[error("invalid setting {0}")]
+    Setting(SettingError),
+
     #[error("cannot write '{path}': {source}")]
     Write {
         path: PathBuf,
@@ -58,7 +62,7 @@ pub enum Error {
     BadCheckpoint { path: PathBuf, message: String },
 
     #[error(
-        "'{path}' was traced for scene '{traced_for}', which differs from '{scene}' (use --force to use it anyway)"
+        "'{path}' was traced for scene '{traced_for}', which differs from '{scene}' (it can be forced)"
     )]
     PhotonMapSceneMismatch {
         path: PathBuf,
@@ -68,6 +72,26 @@ pub enum Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// A problem with one render setting's value, which each front end names its own way (the
+/// command line `--radius 0`, Python `radius=0`, a scene file the `[render]` key's line).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SettingError {
+    /// The setting's name (`snake_case`).
+    pub name: &'static str,
+    /// The value as the user wrote it, when there is one.
+    pub value: Option<String>,
+    pub problem: String,
+}
+
+impl fmt::Display for SettingError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.value {
+            Some(v) => write!(f, "{} = {v}: {}", self.name, self.problem),
+            None => write!(f, "{}: {}", self.name, self.problem),
+        }
+    }
+}
 
 /// A problem in a file, with its location when the format has lines.
 #[derive(Clone, Debug, PartialEq, Eq)]

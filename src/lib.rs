@@ -27,6 +27,8 @@ pub mod render;
 pub mod render_job;
 pub mod sampling;
 pub mod scene;
+pub mod session;
+pub mod settings;
 pub mod texture;
 pub mod validate;
 

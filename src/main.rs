@@ -21,6 +21,18 @@ fn main() -> ExitCode {
                     message = format!("{message}: {text}");
                 }
             }
+            // The library names a setting by its key; here it is a flag.
+            for cause in e.chain() {
+                match cause.downcast_ref::<photon::Error>() {
+                    Some(p @ photon::Error::Setting(s)) => {
+                        message = message.replace(&p.to_string(), &cli::describe_setting_error(s));
+                    }
+                    Some(photon::Error::PhotonMapSceneMismatch { .. }) => {
+                        message = format!("{message}; use --force to use it anyway");
+                    }
+                    _ => {}
+                }
+            }
             eprintln!("error: {message}");
             ExitCode::from(2)
         }

@@ -8,7 +8,6 @@
 //! the defaults below. Photon-integrator settings in a scene file apply only when the photon
 //! integrator runs, so a scene written for photon mapping still renders with `path`.
 
-use crate::description::RenderSpec;
 use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter};
 use crate::integrator::{DirectConfig, Integrator, PathConfig, PhotonIntegrator, PhotonSettings};
@@ -16,166 +15,13 @@ use crate::photon::{Kernel, PhotonConfig, PhotonMaps, trace_photons};
 use crate::progressive::{Method, ProgressiveConfig, ProgressiveState};
 use crate::render::{RenderOutput, RenderSettings, render_samples_cancellable};
 use crate::scene::Scene;
-use serde::{Deserialize, Serialize};
+use crate::session::{Budget, Ending, Session};
+use crate::settings::{
+    DefaultValue, GatherMode, IntegratorKind, RenderOptions, SETTINGS, SettingError, defaults,
+};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-
-/// Largest photons per estimate: each estimate keeps k + 1 candidates.
-pub const MAX_K: usize = 1 << 16;
-/// Largest indirect scale (a debugging knob; 1 is correct): larger overflowed to Inf.
-pub const MAX_INDIRECT_SCALE: f32 = 1e6;
-/// Shadow rays per area light at each visible point of a progressive pass.
-pub const PROGRESSIVE_LIGHT_SAMPLES: u32 = 1;
-
-/// The rendering algorithms.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum IntegratorKind {
-    /// Two-pass photon mapping: direct light, caustic map, final gathering of the global map.
-    Photon,
-    /// Ray-traced direct light with mirror and glass recursion; no indirect diffuse light.
-    Direct,
-    /// Unidirectional path tracing with NEE and MIS: the reference.
-    Path,
-    /// Stochastic progressive photon mapping (Hachisuka & Jensen 2009).
-    Sppm,
-    /// Probabilistic progressive photon mapping (Knaus & Zwicker 2011): independent passes.
-    Ppm,
-}
-
-impl IntegratorKind {
-    pub const ALL: [Self; 5] = [
-        Self::Photon,
-        Self::Direct,
-        Self::Path,
-        Self::Sppm,
-        Self::Ppm,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Photon => "photon",
-            Self::Direct => "direct",
-            Self::Path => "path",
-            Self::Sppm => "sppm",
-            Self::Ppm => "ppm",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|k| k.name().eq_ignore_ascii_case(name))
-    }
-
-    pub fn is_progressive(self) -> bool {
-        matches!(self, Self::Sppm | Self::Ppm)
-    }
-
-    /// Samples per pixel when none are given.
-    pub fn default_spp(self) -> u32 {
-        match self {
-            Self::Photon => 8,
-            Self::Direct => 16,
-            Self::Path => 64,
-            Self::Sppm | Self::Ppm => 1,
-        }
-    }
-}
-
-/// How the photon integrator finds indirect light.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum GatherMode {
-    /// Final gathering: rays from each diffuse point read precomputed irradiance.
-    #[default]
-    Final,
-    /// Read the global photon map directly.
-    None,
-}
-
-/// Everything a user may set for a render; `None` takes the scene's or the default.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct RenderOptions {
-    pub integrator: Option<IntegratorKind>,
-    pub spp: Option<u32>,
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub seed: Option<u64>,
-    pub max_depth: Option<u32>,
-    pub light_samples: Option<u32>,
-    /// `box` or `gaussian:SIGMA`.
-    pub filter: Option<String>,
-    pub photons: Option<u64>,
-    pub caustic_photons: Option<u64>,
-    pub radius: Option<f32>,
-    pub k: Option<usize>,
-    /// `box`, `cone`, `gaussian` or `epanechnikov`.
-    pub kernel: Option<String>,
-    pub gather: Option<GatherMode>,
-    pub gather_rays: Option<u32>,
-    pub indirect_scale: Option<f32>,
-    pub per_channel: bool,
-    pub absorption: Option<f32>,
-    pub passes: Option<u64>,
-    /// Seconds, for progressive renders.
-    pub time: Option<f64>,
-    pub photons_per_pass: Option<u64>,
-    pub alpha: Option<f64>,
-    /// Samples `a..b` of each pixel's `spp` only (path, direct, photon).
-    pub sample_range: Option<(u32, u32)>,
-    /// Passes `a..b` only (ppm).
-    pub pass_range: Option<(u64, u64)>,
-}
-
-impl RenderOptions {
-    /// Fill every setting not given from a scene file's `[render]` table.
-    pub fn apply_scene_settings(&mut self, r: &RenderSpec) -> Result<()> {
-        if self.integrator.is_none()
-            && let Some(name) = &r.integrator
-        {
-            self.integrator = Some(IntegratorKind::from_name(name).ok_or_else(|| {
-                Error::InvalidSetting(format!("the scene names an unknown integrator '{name}'"))
-            })?);
-        }
-        self.filter = self.filter.take().or_else(|| r.filter.clone());
-        self.spp = self.spp.or(r.spp);
-        self.seed = self.seed.or(r.seed);
-        self.max_depth = self.max_depth.or(r.max_depth);
-        self.light_samples = self.light_samples.or(r.light_samples);
-        self.radius = self.radius.or(r.radius);
-        let integrator = self.integrator.unwrap_or(IntegratorKind::Photon);
-        if integrator.is_progressive() {
-            self.passes = self.passes.or(r.passes);
-            self.time = self.time.or(r.time);
-            self.alpha = self.alpha.or(r.alpha);
-            self.photons_per_pass = self.photons_per_pass.or(r.photons_per_pass);
-        }
-        if integrator == IntegratorKind::Photon {
-            self.kernel = self.kernel.take().or_else(|| r.kernel.clone());
-            if self.gather.is_none()
-                && let Some(g) = &r.gather
-            {
-                self.gather = Some(match g.as_str() {
-                    "final" => GatherMode::Final,
-                    "none" => GatherMode::None,
-                    other => {
-                        return Err(Error::InvalidSetting(format!(
-                            "the scene names an unknown gather mode '{other}'"
-                        )));
-                    }
-                });
-            }
-            self.k = self.k.or(r.k.map(|k| k as usize));
-            self.photons = self.photons.or(r.photons);
-            self.caustic_photons = self.caustic_photons.or(r.caustic_photons);
-            self.gather_rays = self.gather_rays.or(r.gather_rays);
-        }
-        Ok(())
-    }
-}
 
 /// What a render is doing, for progress reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -222,133 +68,104 @@ pub struct RenderResult {
 /// A render of one scene with resolved settings. Build with [`RenderJob::new`].
 pub struct RenderJob<'s> {
     scene: &'s Scene,
+    /// Every setting: given, else the scene's, else the default where it has a value.
     options: RenderOptions,
     integrator: IntegratorKind,
-    filter: PixelFilter,
-    kernel: Kernel,
     maps: Option<Arc<PhotonMaps>>,
 }
 
+/// `options` with every setting `kind` takes and has a default value for filled in.
+fn with_defaults(mut options: RenderOptions, kind: IntegratorKind) -> RenderOptions {
+    // With gather none and no k given, the maps keep their own k: read directly, the global
+    // map's noise is seen as is, and it takes more photons per estimate than the caustic map.
+    let own_k = options.gather == Some(GatherMode::None) && options.k.is_none();
+    for s in SETTINGS
+        .iter()
+        .filter(|s| s.takes.includes(kind) && !(own_k && s.name == "k"))
+    {
+        if let DefaultValue::Value(of) = s.default
+            && !options.given().iter().any(|(g, _)| g.name == s.name)
+        {
+            options
+                .set_text(s.name, &of(kind))
+                .expect("every default reads back as its setting");
+        }
+    }
+    options.alpha = options
+        .alpha
+        .or(kind.is_progressive().then_some(defaults::ALPHA));
+    options
+}
+
+fn setting_error(e: SettingError) -> Error {
+    Error::Setting(e)
+}
+
 impl<'s> RenderJob<'s> {
-    /// Resolve `options` against the scene's `[render]` table `spec` and the defaults, and
-    /// check them.
-    pub fn new(scene: &'s Scene, spec: &RenderSpec, mut options: RenderOptions) -> Result<Self> {
-        options.apply_scene_settings(spec)?;
-        let integrator = options.integrator.unwrap_or(IntegratorKind::Photon);
-        let bad = |m: String| Err(Error::InvalidSetting(m));
-        let filter = match &options.filter {
-            Some(f) => f.parse::<PixelFilter>().map_err(Error::InvalidSetting)?,
-            None => PixelFilter::Box,
+    /// Resolve `options` against the scene's `[render]` table `scene_settings` and the
+    /// defaults, and check them. A setting given in `options` that the integrator does not
+    /// take is an error; the scene's apply only where they are taken.
+    pub fn new(
+        scene: &'s Scene,
+        scene_settings: &RenderOptions,
+        options: RenderOptions,
+    ) -> Result<Self> {
+        let integrator = options
+            .integrator
+            .or(scene_settings.integrator)
+            .unwrap_or(defaults::INTEGRATOR);
+        options.check_each(integrator).map_err(setting_error)?;
+        let mut options = options;
+        options.fill_from_scene(scene_settings, integrator);
+        options.check_values().map_err(setting_error)?;
+        let needs = |name: &'static str, value: Option<String>, problem: &str| {
+            Err(setting_error(SettingError {
+                name,
+                value,
+                problem: problem.into(),
+            }))
         };
-        let kernel = match options.kernel.as_deref().unwrap_or("epanechnikov") {
-            "box" => Kernel::Box,
-            "cone" => Kernel::Cone,
-            "gaussian" => Kernel::Gaussian,
-            "epanechnikov" => Kernel::Epanechnikov,
-            other => {
-                return bad(format!(
-                    "unknown kernel '{other}' (expected box, cone, gaussian or epanechnikov)"
-                ));
-            }
-        };
-        if options.light_samples == Some(0) {
-            return bad("light samples must be at least 1".into());
-        }
-        let scale = options.indirect_scale.unwrap_or(1.0);
-        if !(0.0..=MAX_INDIRECT_SCALE).contains(&scale) {
-            return bad(format!(
-                "indirect scale {scale} must be between 0 and {MAX_INDIRECT_SCALE} (1 is physically correct)"
-            ));
-        }
-        if let Some(k) = options.k
-            && k > MAX_K
-        {
-            return bad(format!(
-                "k {k}: at most {MAX_K} photons per estimate (as in scene files)"
-            ));
-        }
-        if let Some(s) = options.time
-            && !(s > 0.0 && s.is_finite())
-        {
-            return bad(format!("time {s} must be a positive number of seconds"));
-        }
-        if let Some(r) = options.radius
-            && !(r > 0.0 && r.is_finite())
-        {
-            return bad(format!("radius {r} must be a positive length"));
-        }
-        if options.passes == Some(0) {
-            return bad("passes 0: a render needs at least one pass".into());
-        }
-        if let Some((a, b)) = options.pass_range
-            && a >= b
-        {
-            return bad(format!(
-                "pass range {a}..{b} is empty: the first pass must come before the end"
-            ));
-        }
-        if options.pass_range.is_some() && integrator != IntegratorKind::Ppm {
-            return bad(
-                "a pass range needs the ppm integrator (sppm passes depend on each other)".into(),
-            );
-        }
-        if options.sample_range.is_some() && integrator.is_progressive() {
-            return bad("a sample range is for the path, direct and photon integrators (ppm has pass ranges)".into());
-        }
         if integrator.is_progressive()
             && options.passes.is_none()
             && options.time.is_none()
             && options.pass_range.is_none()
         {
-            return bad("give passes or a time for a progressive render".into());
+            return needs(
+                "passes",
+                None,
+                "give passes or a time for a progressive render",
+            );
         }
-        if integrator != IntegratorKind::Photon {
-            let photon_only = [
-                (options.per_channel, "per-channel photons"),
-                (options.absorption.is_some(), "absorption"),
-                (options.gather_rays.is_some(), "gather rays"),
-                (options.caustic_photons.is_some(), "caustic photons"),
-            ];
-            if let Some((_, what)) = photon_only.iter().find(|(given, _)| *given) {
-                return bad(format!("{what} is a setting of the photon integrator"));
-            }
+        if options.gather_rays == Some(0) && options.gather != Some(GatherMode::None) {
+            return needs(
+                "gather_rays",
+                Some("0".into()),
+                "must be at least 1 (or gather none)",
+            );
         }
-        if integrator == IntegratorKind::Photon
-            && options.gather.unwrap_or_default() == GatherMode::Final
-            && options.gather_rays == Some(0)
-        {
-            return bad("gather rays must be at least 1 (or gather none)".into());
-        }
-        if !integrator.is_progressive() {
-            let progressive_only = [
-                (options.passes.is_some(), "passes"),
-                (options.time.is_some(), "a time budget"),
-                (options.alpha.is_some(), "alpha"),
-                (options.photons_per_pass.is_some(), "photons per pass"),
-            ];
-            if let Some((_, what)) = progressive_only.iter().find(|(given, _)| *given) {
-                return bad(format!("{what} is a setting of sppm and ppm"));
-            }
-        }
+        let (w, h) = scene.default_resolution;
+        options.width = options.width.or(Some(w));
+        options.height = options.height.or(Some(h));
+        let options = with_defaults(options, integrator);
         let job = Self {
             scene,
             options,
             integrator,
-            filter,
-            kernel,
             maps: None,
         };
         if integrator.is_progressive() {
             job.progressive_config().validate()?;
         } else {
+            let spp = job.settings().spp;
             job.settings().validate()?;
-            if let Some((a, b)) = job.options.sample_range
-                && (a >= b || b > job.settings().spp)
+            if let Some(r) = job.options.sample_range
+                && r.end > u64::from(spp)
             {
-                return bad(format!(
-                    "samples {a}..{b} are not a part of the {} per pixel",
-                    job.settings().spp
-                ));
+                return needs(
+                    "sample_range",
+                    Some(format!("{}..{}", r.start, r.end)),
+                    &format!("goes past the {spp} samples per pixel (spp)"),
+                );
             }
         }
         Ok(job)
@@ -364,26 +181,34 @@ impl<'s> RenderJob<'s> {
         self.integrator
     }
 
-    /// The options after resolution (the scene's settings filled in).
+    /// Every setting after resolution: given, the scene's, or the default.
     pub fn options(&self) -> &RenderOptions {
         &self.options
     }
 
+    fn filter(&self) -> PixelFilter {
+        self.options.filter.unwrap_or(defaults::FILTER)
+    }
+
+    fn kernel(&self) -> Kernel {
+        self.options.kernel.unwrap_or(defaults::KERNEL)
+    }
+
     /// The image settings of a path, direct or photon render.
     pub fn settings(&self) -> RenderSettings {
-        let (w, h) = self.scene.default_resolution;
+        let o = &self.options;
         RenderSettings {
-            width: self.options.width.unwrap_or(w),
-            height: self.options.height.unwrap_or(h),
-            spp: self.options.spp.unwrap_or(self.integrator.default_spp()),
-            seed: self.options.seed.unwrap_or(0),
-            filter: self.filter,
+            width: o.width.unwrap_or(self.scene.default_resolution.0),
+            height: o.height.unwrap_or(self.scene.default_resolution.1),
+            spp: o.spp.unwrap_or(defaults::spp(self.integrator)),
+            seed: o.seed.unwrap_or(defaults::SEED),
+            filter: self.filter(),
         }
     }
 
     /// The configuration of an sppm or ppm render.
     pub fn progressive_config(&self) -> ProgressiveConfig {
-        let (w, h) = self.scene.default_resolution;
+        let s = self.settings();
         let o = &self.options;
         ProgressiveConfig {
             method: if self.integrator == IntegratorKind::Sppm {
@@ -391,53 +216,41 @@ impl<'s> RenderJob<'s> {
             } else {
                 Method::Ppm
             },
-            width: o.width.unwrap_or(w),
-            height: o.height.unwrap_or(h),
-            seed: o.seed.unwrap_or(0),
-            alpha: o.alpha.unwrap_or(2.0 / 3.0),
-            photons_per_pass: o.photons_per_pass.unwrap_or(100_000),
+            width: s.width,
+            height: s.height,
+            seed: s.seed,
+            alpha: o.alpha.unwrap_or(defaults::ALPHA),
+            photons_per_pass: o.photons_per_pass.unwrap_or(defaults::PHOTONS_PER_PASS),
             initial_radius: o.radius,
-            max_depth: o.max_depth.unwrap_or(16),
-            // One shadow ray per pass: passes average them, and a pass that spends less on
-            // direct light runs more photons (cornell at 10 s: relMSE 0.00197 with 4, 0.00179
-            // with 1).
-            light_samples: o.light_samples.unwrap_or(PROGRESSIVE_LIGHT_SAMPLES),
+            max_depth: o.max_depth.unwrap_or(defaults::max_depth(self.integrator)),
+            light_samples: o
+                .light_samples
+                .unwrap_or(defaults::light_samples(self.integrator)),
         }
     }
 
     /// A fresh progressive state (starting at the pass range's first pass), for callers that
     /// run passes themselves (checkpoints, snapshots, an iterator of images).
     pub fn progressive_state(&self) -> Result<ProgressiveState> {
-        let first = self.options.pass_range.map_or(0, |r| r.0);
+        let first = self.options.pass_range.map_or(0, |r| r.start);
         ProgressiveState::new(self.scene, self.progressive_config(), first)
     }
 
     /// The pass to stop before: the range's end, or the passes asked for.
     pub fn target_passes(&self) -> Option<u64> {
-        self.options.pass_range.map(|r| r.1).or(self.options.passes)
+        self.options
+            .pass_range
+            .map(|r| r.end)
+            .or(self.options.passes)
     }
 
-    /// Every setting that changes a sample of a path, direct or photon render, in one
-    /// string: partial renders merge only when theirs are equal.
-    pub fn sample_label(&self) -> String {
-        let o = &self.options;
-        format!(
-            "{} {:?} max_depth={:?} light_samples={:?} photons={:?} caustic_photons={:?} radius={:?} k={:?} kernel={:?} gather={:?} gather_rays={:?} indirect_scale={:?} per_channel={} absorption={:?}",
-            self.integrator.name(),
-            self.settings(),
-            o.max_depth,
-            o.light_samples,
-            o.photons,
-            o.caustic_photons,
-            o.radius,
-            o.k,
-            self.kernel,
-            o.gather,
-            o.gather_rays,
-            o.indirect_scale,
-            o.per_channel,
-            o.absorption,
-        )
+    /// Every setting that decides the samples of a path, direct or photon render, resolved:
+    /// partial renders merge only when theirs are equal.
+    pub fn sample_identity(&self) -> RenderOptions {
+        RenderOptions {
+            sample_range: None,
+            ..self.options.clone()
+        }
     }
 
     /// The integrator of a path, direct or photon render, tracing photon maps if it needs
@@ -448,19 +261,20 @@ impl<'s> RenderJob<'s> {
         timings: &mut Timings,
     ) -> Result<(Integrator, u64)> {
         let o = &self.options;
-        let light_samples = o.light_samples.unwrap_or(4);
-        Ok(match self.integrator {
+        let kind = self.integrator;
+        let max_depth = o.max_depth.unwrap_or(defaults::max_depth(kind));
+        Ok(match kind {
             IntegratorKind::Direct => (
                 Integrator::Direct(DirectConfig {
-                    max_depth: o.max_depth.unwrap_or(DirectConfig::default().max_depth),
-                    light_samples,
+                    max_depth,
+                    light_samples: o.light_samples.unwrap_or(defaults::light_samples(kind)),
                     ..DirectConfig::default()
                 }),
                 0,
             ),
             IntegratorKind::Path => (
                 Integrator::Path(PathConfig {
-                    max_depth: o.max_depth.unwrap_or(PathConfig::default().max_depth),
+                    max_depth,
                     ..PathConfig::default()
                 }),
                 0,
@@ -475,14 +289,17 @@ impl<'s> RenderJob<'s> {
                 let (maps, photons) = match &self.maps {
                     Some(m) => (m.clone(), 0),
                     None => {
-                        let global = o.photons.unwrap_or(250_000);
-                        let caustic = o.caustic_photons.unwrap_or(2_000_000).max(global);
+                        let global = o.photons.unwrap_or(defaults::PHOTONS);
+                        let caustic = o
+                            .caustic_photons
+                            .unwrap_or(defaults::CAUSTIC_PHOTONS)
+                            .max(global);
                         let config = PhotonConfig {
                             photons: caustic,
                             global_photons: Some(global),
                             absorption: o.absorption,
-                            per_channel: o.per_channel,
-                            seed: o.seed.unwrap_or(0),
+                            per_channel: o.per_channel.unwrap_or(false),
+                            seed: self.settings().seed,
                             ..PhotonConfig::default()
                         };
                         config.validate()?;
@@ -509,17 +326,16 @@ impl<'s> RenderJob<'s> {
 
     fn photon_settings(&self) -> PhotonSettings {
         let o = &self.options;
+        let kind = self.integrator;
         let mut s = PhotonSettings::for_scene(self.scene);
-        if let Some(d) = o.max_depth {
-            s.max_depth = d;
-        }
-        s.light_samples = o.light_samples.unwrap_or(4);
+        s.max_depth = o.max_depth.unwrap_or(defaults::max_depth(kind));
+        s.light_samples = o.light_samples.unwrap_or(defaults::light_samples(kind));
         if let Some(r) = o.radius {
             s.caustic.max_radius = r;
             s.global.max_radius = r;
             s.cache_radius = r;
         }
-        let gather = o.gather.unwrap_or_default();
+        let gather = o.gather.unwrap_or(defaults::GATHER);
         if gather == GatherMode::None {
             s.global.k = PhotonSettings::DIRECT_VISUALISATION_K;
         }
@@ -527,13 +343,13 @@ impl<'s> RenderJob<'s> {
             s.caustic.k = k;
             s.global.k = k;
         }
-        s.caustic.kernel = self.kernel;
-        s.global.kernel = self.kernel;
+        s.caustic.kernel = self.kernel();
+        s.global.kernel = self.kernel();
         s.gather_rays = match gather {
             GatherMode::None => 0,
-            GatherMode::Final => o.gather_rays.unwrap_or(s.gather_rays),
+            GatherMode::Final => o.gather_rays.unwrap_or(defaults::GATHER_RAYS),
         };
-        s.indirect_scale = o.indirect_scale.unwrap_or(1.0);
+        s.indirect_scale = o.indirect_scale.unwrap_or(defaults::INDIRECT_SCALE);
         s
     }
 
@@ -553,7 +369,7 @@ impl<'s> RenderJob<'s> {
         let range = self
             .options
             .sample_range
-            .map_or(0..settings.spp, |(a, b)| a..b);
+            .map_or(0..settings.spp, |r| r.start as u32..r.end as u32);
         let start = Instant::now();
         let report = |done: u64, total: u64| {
             progress(Progress {
@@ -575,53 +391,57 @@ impl<'s> RenderJob<'s> {
         })
     }
 
-    /// Progressive passes until the budget (passes or time; a time runs at least one pass) is
-    /// spent or `cancel` is set, which abandons the pass in flight.
+    /// The budget of a progressive render: the pass range's end or the passes asked for, and
+    /// the time (not for a pass range, which is the same work on every machine).
+    pub fn budget(&self) -> Budget {
+        Budget {
+            passes: self.target_passes(),
+            seconds: self
+                .options
+                .time
+                .filter(|_| self.options.pass_range.is_none()),
+        }
+    }
+
+    /// A progressive render's session, for callers that drive passes themselves (to
+    /// checkpoint, show snapshots, or iterate over images).
+    pub fn session(&self) -> Result<Session> {
+        Session::new(self.progressive_state()?, self.budget())
+    }
+
+    /// Progressive passes until the budget is spent or `cancel` is set, which abandons the
+    /// pass in flight.
     fn render_passes(
         &self,
         progress: &(dyn Fn(Progress) + Sync),
         cancel: &AtomicBool,
     ) -> Result<RenderResult> {
-        let mut state = self.progressive_state()?;
-        let target = self.target_passes();
-        let start = Instant::now();
-        let mut photons = 0;
-        let mut cancelled = false;
-        let time_spent = |passes: u64| {
-            passes > 0
-                && self
-                    .options
-                    .time
-                    .is_some_and(|s| start.elapsed().as_secs_f64() >= s)
-        };
-        while target.is_none_or(|t| state.next_pass() < t) && !time_spent(state.passes) {
-            if cancel.load(Ordering::Relaxed) {
-                cancelled = true;
-                break;
-            }
-            match state.run_pass_cancellable(self.scene, cancel) {
-                Err(Error::Cancelled) => {
-                    cancelled = true;
-                    break;
-                }
-                stats => photons += stats?.photons_emitted,
-            }
+        let mut session = self.session()?;
+        let total = session
+            .budget()
+            .passes
+            .map_or(0, |t| t - session.state().first_pass);
+        let never = AtomicBool::new(false);
+        let ending = session.run(self.scene, &never, cancel, |s, _| {
             progress(Progress {
                 phase: Phase::Passes,
-                done: state.passes,
-                total: target.map_or(0, |t| t - state.first_pass),
+                done: s.state().passes,
+                total,
             });
-        }
+            Ok(())
+        })?;
+        let (photons, seconds) = (session.totals().photons, session.elapsed());
+        let state = session.finish(ending)?;
         Ok(RenderResult {
             image: state.image(),
             output: None,
             state: Some(state),
             timings: Timings {
-                render: start.elapsed().as_secs_f64(),
+                render: seconds,
                 ..Timings::default()
             },
             photons,
-            cancelled,
+            cancelled: ending == Ending::Interrupted,
         })
     }
 }

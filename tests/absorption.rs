@@ -6,8 +6,9 @@ use photon::description::build::build;
 use photon::description::toml_read;
 use photon::math::Rgb;
 use photon::photon::{PhotonConfig, trace_photons};
-use photon::render_job::{IntegratorKind, RenderJob, RenderOptions};
+use photon::render_job::RenderJob;
 use photon::scene::Scene;
+use photon::settings::{IntegratorKind, RenderOptions};
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 

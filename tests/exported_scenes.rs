@@ -5,8 +5,9 @@
 //! integrators must agree with it.
 
 use photon::description::{build::build, toml_read::read_str};
-use photon::render_job::{IntegratorKind, RenderJob, RenderOptions};
+use photon::render_job::RenderJob;
 use photon::scene::Scene;
+use photon::settings::{IntegratorKind, RenderOptions};
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 

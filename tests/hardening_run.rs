@@ -4,7 +4,8 @@
 mod common;
 
 use common::{assert_usage_error, photon, stderr, temp_dir};
-use photon::render_job::{IntegratorKind, RenderJob, RenderOptions};
+use photon::render_job::RenderJob;
+use photon::settings::{IntegratorKind, RenderOptions};
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
@@ -244,9 +245,12 @@ fn the_library_refuses_zero_passes_and_empty_ranges() {
     };
     let zero = job(ppm(Some(0), None)).expect("passes 0 is refused");
     assert!(zero.contains("passes 0"), "{zero}");
-    let range = job(ppm(None, Some((10, 5)))).expect("10..5 is refused");
+    let range = job(ppm(None, Some((10, 5).into()))).expect("10..5 is refused");
     assert!(range.contains("10..5"), "{range}");
-    assert!(job(ppm(None, Some((5, 5)))).is_some(), "5..5 is refused");
+    assert!(
+        job(ppm(None, Some((5, 5).into()))).is_some(),
+        "5..5 is refused"
+    );
     // A time shorter than any pass still renders one.
     let options = RenderOptions {
         integrator: Some(IntegratorKind::Sppm),

@@ -6,7 +6,8 @@ mod common;
 
 use common::{photon, stderr, temp_dir};
 use photon::description::load_scene;
-use photon::render_job::{IntegratorKind, RenderJob, RenderOptions};
+use photon::render_job::RenderJob;
+use photon::settings::{IntegratorKind, RenderOptions};
 use std::sync::atomic::AtomicBool;
 
 const SCENE: &str = r#"

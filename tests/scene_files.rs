@@ -408,7 +408,10 @@ fn command_line_settings_override_the_scene_and_the_scene_overrides_defaults() {
     let desc = read(
         "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\nresolution = [40, 30]\n[render]\nintegrator = \"path\"\nspp = 3\nseed = 9\n",
     );
-    assert_eq!(desc.render.integrator.as_deref(), Some("path"));
+    assert_eq!(
+        desc.render.integrator,
+        Some(photon::settings::IntegratorKind::Path)
+    );
     assert_eq!((desc.render.spp, desc.render.seed), (Some(3), Some(9)));
     assert_eq!((desc.camera.width, desc.camera.height), (40, 30));
 }

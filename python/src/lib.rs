@@ -7,11 +7,13 @@
 //! (checked between tiles and rows), waits for the worker to stop, and is raised.
 
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
-use photon::description::{Loaded, RenderSpec};
+use photon::description::Loaded;
+use photon::settings::RenderOptions as RenderSpec;
 use photon::film::Image;
 use photon::photon::{MapKind, PhotonConfig};
 use photon::progressive::ProgressiveState;
-use photon::render_job::{RenderJob, RenderOptions};
+use photon::render_job::RenderJob;
+use photon::settings::RenderOptions;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
@@ -312,7 +314,7 @@ fn progressive(
     let threads = threads_arg(threads)?;
     let mut options = options(kwargs)?;
     if options.integrator.is_none() {
-        options.integrator = Some(photon::render_job::IntegratorKind::Sppm);
+        options.integrator = Some(photon::settings::IntegratorKind::Sppm);
     }
     let (inner, spec) = (scene.inner.clone(), scene.spec.clone());
     let (state, target, time) = run_cancellable(py, move |_| {

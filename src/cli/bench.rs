@@ -6,7 +6,7 @@ use photon::accel::RayEngine;
 use photon::bench::{self, BenchScene, Crossing, Run, micro, plot};
 use photon::io::atomic::write_file;
 use photon::io::image::read_image;
-use photon::render_job::IntegratorKind;
+use photon::settings::IntegratorKind;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

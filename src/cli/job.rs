@@ -158,8 +158,8 @@ fn create(a: &CreateArgs) -> Result<()> {
         photon_version: env!("CARGO_PKG_VERSION").into(),
         scene,
         scene_hash: format!("{:016x}", plan.scene.content_hash()),
-        integrator: plan.integrator.into(),
-        render_args: a.render[1..].to_vec(),
+        settings: plan.settings,
+        environment: plan.environment,
         unit: plan.unit,
         total: plan.total,
         tasks,
@@ -180,7 +180,7 @@ fn create(a: &CreateArgs) -> Result<()> {
     eprintln!(
         "photon: job {}: {} {} {} in {} tasks of {}–{}; {} files ({:.1} MB) copied",
         job_dir.display(),
-        manifest.integrator,
+        plan.integrator.name(),
         manifest.total,
         unit_name(manifest.unit),
         manifest.tasks.len(),
@@ -328,24 +328,11 @@ fn render_one(
     } else {
         a.job.join(&manifest.scene).to_string_lossy().into_owned()
     };
-    let mut scene_and_flags = vec![scene];
-    scene_and_flags.extend(manifest.render_args.iter().cloned());
     let start = std::time::Instant::now();
     let rendered = job::lock::worker_part_path(&a.job, task, lock.holder());
-    let outcome = render_task(
-        &scene_and_flags,
-        manifest.unit,
-        range,
-        rendered.clone(),
-        a.threads,
-    )
-    .with_context(|| {
-        format!(
-            "the render_args of '{}'",
-            a.job.join(job::MANIFEST).display()
-        )
-    })
-    .and_then(|()| Ok(job::promote_part(&a.job, manifest, task, &rendered)?));
+    let outcome = render_task(manifest, scene, range, rendered.clone(), a.threads)
+        .with_context(|| format!("the settings of '{}'", a.job.join(job::MANIFEST).display()))
+        .and_then(|()| Ok(job::promote_part(&a.job, manifest, task, &rendered)?));
     let _ = std::fs::remove_file(&rendered);
     if !outcome? {
         eprintln!("photon: task {task} was done meanwhile by another worker; its part is kept");

@@ -25,13 +25,15 @@ mod photons;
 mod progress;
 mod progressive;
 mod render;
+mod setting_flags;
 mod validate;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use photon::description::RenderSpec;
 use photon::description::builtin::BUILTINS;
 use photon::scene::Scene;
+use photon::settings::RenderOptions;
+pub use setting_flags::describe as describe_setting_error;
 
 #[derive(Parser)]
 #[command(
@@ -256,12 +258,15 @@ fn print_warnings(warnings: &[String]) {
 
 /// Load a scene by built-in name or file, printing what the loader could not map. Also
 /// returns the seconds it took (reading files, building the BVH).
-pub fn scene(name_or_path: &str) -> Result<(Scene, RenderSpec, f64)> {
+pub fn scene(name_or_path: &str) -> Result<(Scene, RenderOptions, f64)> {
     scene_with(name_or_path, &EnvironmentArgs::default())
 }
 
 /// [`scene`] with the environment light the command line gives or changes.
-pub fn scene_with(name_or_path: &str, env: &EnvironmentArgs) -> Result<(Scene, RenderSpec, f64)> {
+pub fn scene_with(
+    name_or_path: &str,
+    env: &EnvironmentArgs,
+) -> Result<(Scene, RenderOptions, f64)> {
     let start = std::time::Instant::now();
     let (scene, loaded) =
         photon::description::load_scene_edited(name_or_path, |desc| env.apply(desc))?;

@@ -7,22 +7,19 @@ use photon::io::checkpoint::{self, EnvSettings, RunInfo};
 use photon::io::image::write_image;
 use photon::progressive::ProgressiveState;
 use photon::scene::Scene;
+use photon::session::{CHECKPOINT_EVERY, CheckpointPlan, Ending, Session, Totals};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
 
-/// How long a progressive render may go on.
-#[derive(Clone, Copy, Debug)]
-pub struct Budget {
-    pub passes: Option<u64>,
-    pub seconds: Option<f64>,
-}
+pub use photon::session::Budget;
 
 /// What to write while and after rendering.
 pub struct Outputs {
     pub image: PathBuf,
     pub checkpoint: PathBuf,
+    /// Keep the checkpoint when the render finishes.
+    pub keep_checkpoint: bool,
     pub snapshots: bool,
     pub exposure: f32,
     pub quiet: bool,
@@ -50,17 +47,13 @@ pub fn env_settings(env: &super::EnvironmentArgs) -> EnvSettings {
     }
 }
 
-fn env_args(env: &EnvSettings) -> super::EnvironmentArgs {
+pub fn env_args(env: &EnvSettings) -> super::EnvironmentArgs {
     super::EnvironmentArgs {
         env: env.sky.clone(),
         env_rotate: env.rotate_deg,
         env_intensity: env.intensity,
     }
 }
-
-/// Snapshots at least this often (besides passes 1, 2, 4, 8, …), and checkpoints too.
-const SNAPSHOT_EVERY: Duration = Duration::from_secs(60);
-const CHECKPOINT_EVERY: Duration = Duration::from_secs(30);
 
 /// `c.exr` → `c.checkpoint`.
 pub fn default_checkpoint(output: &Path) -> PathBuf {
@@ -102,106 +95,58 @@ fn interrupts() -> Interrupts {
     flags
 }
 
-/// Run passes until the budget is spent (or an interrupt), writing snapshots, checkpoints and
-/// the final image. A time budget still runs at least one pass.
+/// Run the session's passes until its budget is spent (or an interrupt), showing progress and
+/// writing snapshots; then the image (or the partial render) and the report.
 pub fn run(
     scene: &Scene,
-    mut state: ProgressiveState,
+    state: ProgressiveState,
     budget: Budget,
     out: &Outputs,
     pool: &rayon::ThreadPool,
 ) -> Result<()> {
-    if budget.passes.is_none() && budget.seconds.is_none() {
-        bail!("give --passes or --time for a progressive render");
-    }
-    let target = budget.passes;
-    let signals = interrupts();
-    let bar = progress_bar(out.quiet, target);
-    let start = Instant::now();
-    let (mut last_snapshot, mut last_checkpoint) = (start, start);
-    let mut totals = Totals::default();
     let info = RunInfo {
         output: Some(std::path::absolute(&out.image).unwrap_or_else(|_| out.image.clone())),
-        target_passes: target,
+        target_passes: budget.passes,
         exposure: Some(out.exposure),
         env: out.env.clone(),
     };
-    let first = state.next_pass();
-    let done = |state: &ProgressiveState| {
-        target.is_some_and(|t| state.next_pass() >= t)
-            || (state.next_pass() > first
-                && budget
-                    .seconds
-                    .is_some_and(|s| start.elapsed().as_secs_f64() >= s))
-    };
-    let mut interrupted = false;
-    // The first checkpoint comes after the first pass (then every CHECKPOINT_EVERY): a run
-    // killed in its first 30 s left none.
-    let mut checkpointed = false;
-    while !done(&state) {
-        if signals.stop.load(Ordering::SeqCst) {
-            interrupted = true;
-            break;
-        }
-        let stats = match pool.install(|| state.run_pass_cancellable(scene, &signals.abandon)) {
-            Err(photon::Error::Cancelled) => {
-                interrupted = true;
-                break;
+    let mut session = Session::new(state, budget)?;
+    if !out.partial {
+        session = session.with_checkpoints(CheckpointPlan {
+            path: out.checkpoint.clone(),
+            info: info.clone(),
+            every: CHECKPOINT_EVERY,
+            keep: out.keep_checkpoint,
+        });
+    }
+    let signals = interrupts();
+    let bar = progress_bar(out.quiet, budget.passes);
+    let ending = pool.install(|| {
+        session.run(scene, &signals.stop, &signals.abandon, |s, _| {
+            let passes = s.state().next_pass();
+            if budget.passes.is_none() {
+                bar.set_length(passes + 1);
             }
-            r => r?,
-        };
-        totals.add(&stats);
-        let passes = state.next_pass();
-        if target.is_none() {
-            bar.set_length(passes + 1);
-        }
-        bar.set_position(passes);
-        bar.set_message(format!("{:.1} M photons", totals.photons as f64 / 1e6));
-        if out.snapshots
-            && !out.partial
-            && (passes.is_power_of_two() || last_snapshot.elapsed() >= SNAPSHOT_EVERY)
-        {
-            write_image(
-                &state.image(),
-                &snapshot_path(&out.image, passes),
-                out.exposure,
-            )?;
-            last_snapshot = Instant::now();
-        }
-        if !out.partial && (!checkpointed || last_checkpoint.elapsed() >= CHECKPOINT_EVERY) {
-            checkpoint::save_with(&state, &info, &out.checkpoint)?;
-            last_checkpoint = Instant::now();
-            checkpointed = true;
-        }
-    }
+            bar.set_position(passes);
+            bar.set_message(format!("{:.1} M photons", s.totals().photons as f64 / 1e6));
+            if out.snapshots && !out.partial && s.take_snapshot() {
+                write_image(
+                    &s.state().image(),
+                    &snapshot_path(&out.image, passes),
+                    out.exposure,
+                )?;
+            }
+            Ok(())
+        })
+    })?;
     bar.finish_and_clear();
-    finish(
-        scene,
-        &state,
-        &info,
-        out,
-        &totals,
-        start.elapsed().as_secs_f64(),
-        interrupted,
-    )
-}
-
-/// What the passes of a run did, for its report.
-#[derive(Default)]
-struct Totals {
-    photons: u64,
-    rays: u64,
-    split: photon::progressive::PassSeconds,
-}
-
-impl Totals {
-    fn add(&mut self, stats: &photon::progressive::PassStats) {
-        self.photons += stats.photons_emitted;
-        self.rays += stats.rays.total();
-        self.split.camera += stats.seconds.camera;
-        self.split.photons += stats.seconds.photons;
-        self.split.gather += stats.seconds.gather;
+    let (totals, secs) = (*session.totals(), session.elapsed());
+    if session.state().passes == 0 {
+        eprintln!("photon: interrupted before the first pass completed; nothing was written");
+        std::process::exit(130);
     }
+    let state = session.finish(ending)?;
+    finish(scene, &state, &info, out, &totals, secs, ending)
 }
 
 fn progress_bar(quiet: bool, target: Option<u64>) -> ProgressBar {
@@ -220,8 +165,8 @@ fn progress_bar(quiet: bool, target: Option<u64>) -> ProgressBar {
     bar
 }
 
-/// Save the checkpoint (or the partial render) and the image of the completed passes, and
-/// report; an interrupted run then exits with 130. With no pass completed there is no image.
+/// Write the image of the completed passes (or the partial render), and report; an
+/// interrupted run then exits with 130.
 fn finish(
     scene: &Scene,
     state: &ProgressiveState,
@@ -229,16 +174,12 @@ fn finish(
     out: &Outputs,
     totals: &Totals,
     secs: f64,
-    interrupted: bool,
+    ending: Ending,
 ) -> Result<()> {
-    if state.passes == 0 {
-        eprintln!("photon: interrupted before the first pass completed; nothing was written");
-        std::process::exit(130);
-    }
+    let kept = ending == Ending::Interrupted || out.keep_checkpoint;
     if out.partial {
         checkpoint::save_with(state, info, &out.image)?;
     } else {
-        checkpoint::save_with(state, info, &out.checkpoint)?;
         write_image(&state.image(), &out.image, out.exposure)?;
     }
     eprintln!(
@@ -253,18 +194,18 @@ fn finish(
         totals.photons as f64 / secs / 1e6,
         totals.rays as f64 / secs / 1e6,
         out.image.display(),
-        if out.partial {
+        if out.partial || !kept {
             String::new()
         } else {
             format!(" (checkpoint {})", out.checkpoint.display())
         }
     );
-    let split = &totals.split;
+    let split = &totals.seconds;
     eprintln!(
         "photon: passes spent {:.2} s on camera paths, {:.2} s tracing photons, {:.2} s gathering",
         split.camera, split.photons, split.gather
     );
-    if interrupted {
+    if ending == Ending::Interrupted {
         eprintln!(
             "photon: interrupted after pass {}; continue with: photon render --resume {}",
             state.next_pass(),
@@ -314,7 +255,9 @@ pub fn resume(path: &Path, args: &ResumeArgs, pool: &rayon::ThreadPool) -> Resul
         quiet,
         ..
     } = *args;
-    let (state, info) = checkpoint::load_with(path)?;
+    let (session, info) = Session::resume(path, budget)?;
+    let budget = session.budget();
+    let state = session.into_state();
     let given = env_settings(args.env);
     if given != EnvSettings::default() && given != info.env {
         bail!(
@@ -337,17 +280,11 @@ pub fn resume(path: &Path, args: &ResumeArgs, pool: &rayon::ThreadPool) -> Resul
         .map(Path::to_path_buf)
         .or(info.output)
         .context("the checkpoint names no output image; give -o")?;
-    let budget = Budget {
-        passes: budget.passes.or(if budget.seconds.is_some() {
-            None
-        } else {
-            info.target_passes
-        }),
-        seconds: budget.seconds,
-    };
     let out = Outputs {
         image,
         checkpoint: path.to_path_buf(),
+        // The user named it as this run's input: it stays.
+        keep_checkpoint: true,
         snapshots: false,
         // An exposure given now wins; otherwise the run's own.
         exposure: if exposure != 0.0 {

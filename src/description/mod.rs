@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 pub struct SceneDesc {
     pub name: String,
     pub camera: CameraSpec,
-    pub render: RenderSpec,
+    pub render: crate::settings::RenderOptions,
     /// Named materials, in file order (the order fixes material indices, hence images).
     pub materials: Vec<(String, MaterialSpec)>,
     pub shapes: Vec<ShapeSpec>,
@@ -53,40 +53,6 @@ pub struct CameraSpec {
     pub width: u32,
     pub height: u32,
 }
-
-/// Render settings a scene may carry; the command line overrides each of them.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct RenderSpec {
-    pub integrator: Option<String>,
-    pub spp: Option<u32>,
-    pub seed: Option<u64>,
-    pub max_depth: Option<u32>,
-    pub light_samples: Option<u32>,
-    pub photons: Option<u64>,
-    pub caustic_photons: Option<u64>,
-    pub radius: Option<f32>,
-    pub gather_rays: Option<u32>,
-    pub passes: Option<u64>,
-    pub time: Option<f64>,
-    /// `box` or `gaussian:SIGMA`.
-    pub filter: Option<String>,
-    /// Photon density-estimation kernel (one of [`KERNELS`]).
-    pub kernel: Option<String>,
-    /// `final` (final gathering) or `none` (global map read directly).
-    pub gather: Option<String>,
-    /// Photons per estimate (0: fixed radius).
-    pub k: Option<u64>,
-    /// Progressive radius reduction α in (0, 1).
-    pub alpha: Option<f64>,
-    pub photons_per_pass: Option<u64>,
-}
-
-/// The integrators a scene file may name (the CLI's `--integrator` values).
-pub const INTEGRATORS: &[&str] = &["photon", "direct", "path", "sppm", "ppm"];
-/// The density-estimation kernels (the CLI's `--kernel` values).
-pub const KERNELS: &[&str] = &["box", "cone", "gaussian", "epanechnikov"];
-/// The ways indirect light is found (the CLI's `--gather` values).
-pub const GATHER_MODES: &[&str] = &["final", "none"];
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialSpec {
@@ -345,7 +311,7 @@ impl SceneDesc {
         Self {
             name: name.to_owned(),
             camera,
-            render: RenderSpec::default(),
+            render: crate::settings::RenderOptions::default(),
             materials: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),

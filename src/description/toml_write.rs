@@ -226,50 +226,24 @@ impl Writer {
         string(&shown.to_string_lossy())
     }
 
+    /// `[render]`: every setting given, as its own type writes it (numbers bare, names and
+    /// filters as strings, ranges as arrays).
     fn render(&mut self, desc: &SceneDesc) {
-        let r = &desc.render;
-        let mut lines = Vec::new();
-        for (k, v) in [
-            ("integrator", &r.integrator),
-            ("filter", &r.filter),
-            ("kernel", &r.kernel),
-            ("gather", &r.gather),
-        ] {
-            if let Some(v) = v {
-                lines.push((k, string(v)));
-            }
+        let serde_json::Value::Object(given) =
+            serde_json::to_value(&desc.render).expect("settings are plain data")
+        else {
+            return;
+        };
+        if given.is_empty() {
+            return;
         }
-        let ints = [
-            ("spp", r.spp.map(u64::from)),
-            ("seed", r.seed),
-            ("max_depth", r.max_depth.map(u64::from)),
-            ("light_samples", r.light_samples.map(u64::from)),
-            ("photons", r.photons),
-            ("caustic_photons", r.caustic_photons),
-            ("gather_rays", r.gather_rays.map(u64::from)),
-            ("passes", r.passes),
-            ("k", r.k),
-            ("photons_per_pass", r.photons_per_pass),
-        ];
-        for (k, v) in ints {
-            if let Some(v) = v {
-                lines.push((k, v.to_string()));
-            }
-        }
-        if let Some(x) = r.radius {
-            lines.push(("radius", float(x)));
-        }
-        if let Some(x) = r.time {
-            lines.push(("time", float(x as f32)));
-        }
-        if let Some(x) = r.alpha {
-            lines.push(("alpha", float(x as f32)));
-        }
-        if !lines.is_empty() {
-            self.section("[render]");
-            for (k, v) in lines {
-                self.kv(k, &v);
-            }
+        self.section("[render]");
+        for (key, value) in given {
+            let text = match &value {
+                serde_json::Value::String(s) => string(s),
+                other => other.to_string().replace(',', ", "),
+            };
+            self.kv(&key, &text);
         }
     }
 

@@ -71,10 +71,14 @@ pub struct RunInfo {
 }
 
 /// `--env`, `--env-rotate`, `--env-intensity` as given (a sky file's path absolute).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct EnvSettings {
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub sky: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub rotate_deg: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub intensity: Option<f32>,
 }
 

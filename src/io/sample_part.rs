@@ -15,10 +15,11 @@ use super::container::{self, Contents, Format};
 use crate::error::{Error, Result};
 use crate::film::FixedRgb;
 use crate::render::{MAX_RESOLUTION, SampleSums};
+use crate::settings::RenderOptions;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-pub const SAMPLE_PART_VERSION: u32 = 1;
+pub const SAMPLE_PART_VERSION: u32 = 2;
 /// The container of sample parts.
 const SAMPLE_PART: Format = Format {
     magic: b"PHOTONSP",
@@ -29,14 +30,15 @@ const SAMPLE_PART: Format = Format {
 };
 
 /// What the sums were rendered from, which parts must share to be added.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PartOrigin {
     pub scene: String,
     /// The scene's content hash, hexadecimal.
     pub scene_hash: String,
-    /// The integrator and every setting that changes its samples, as one string.
-    pub settings: String,
+    /// Every setting that decides its samples, resolved (the integrator's defaults filled
+    /// in), compared as typed values.
+    pub settings: RenderOptions,
     /// The first sample of each pixel that the sums hold (the range's start).
     pub first_sample: u32,
 }

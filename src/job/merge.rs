@@ -11,7 +11,7 @@ use std::path::Path;
 /// A partial render: PPM passes, or samples of each pixel.
 pub enum Part {
     Passes(ProgressiveState),
-    Samples(SampleSums, PartOrigin),
+    Samples(SampleSums, Box<PartOrigin>),
 }
 
 impl Part {
@@ -57,7 +57,7 @@ pub fn load_part(path: &Path) -> Result<Part> {
 pub fn decode_part(bytes: &[u8]) -> std::result::Result<Part, String> {
     if sample_part::is_sample_part(bytes) {
         let (sums, origin) = sample_part::decode(bytes)?;
-        return Ok(Part::Samples(sums, origin));
+        return Ok(Part::Samples(sums, Box::new(origin)));
     }
     let (state, _) = crate::io::checkpoint::decode_with(bytes)?;
     if state.config.method != Method::Ppm {
@@ -123,10 +123,5 @@ impl Merger {
             Part::Passes(state) => state.image(),
             Part::Samples(sums, _) => sums.image(),
         })
-    }
-
-    /// The merged state, for a ppm merge saved as one part.
-    pub fn into_part(self) -> Option<Part> {
-        self.sum
     }
 }

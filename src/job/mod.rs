@@ -15,6 +15,8 @@ pub use merge::{Merger, Part, decode_part, load_part};
 
 use crate::error::{Error, Result};
 use crate::hash::fnv1a;
+use crate::io::checkpoint::EnvSettings;
+use crate::settings::RenderOptions;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -60,9 +62,13 @@ pub struct Manifest {
     pub scene: String,
     /// The scene's content hash (hexadecimal), checked by every worker after loading it.
     pub scene_hash: String,
-    pub integrator: String,
-    /// The `photon render` flags after the scene, as given to `photon job create`.
-    pub render_args: Vec<String>,
+    /// Every render setting given when the job was made (a task's range is set by the
+    /// worker); the scene's `[render]` table and the defaults fill in the rest, as for any
+    /// render.
+    pub settings: RenderOptions,
+    /// The environment light given or changed when the job was made.
+    #[serde(default)]
+    pub environment: EnvSettings,
     pub unit: Unit,
     /// Passes or samples per pixel of the whole render.
     pub total: u64,
@@ -107,6 +113,19 @@ impl Manifest {
             ));
         }
         self.check_tasks()?;
+        self.settings
+            .check_values()
+            .map_err(|e| format!("settings: {e}"))?;
+        let per_task = [
+            (self.settings.sample_range.is_some(), "sample_range"),
+            (self.settings.pass_range.is_some(), "pass_range"),
+            (self.settings.time.is_some(), "time"),
+        ];
+        if let Some((_, name)) = per_task.iter().find(|(given, _)| *given) {
+            return Err(format!(
+                "settings: a job's tasks cannot take {name} (each worker sets its task's range, and a time is not the same work on every machine)"
+            ));
+        }
         let mut seen = std::collections::HashSet::new();
         for f in &self.files {
             if !is_scene_file_path(&f.path) {
@@ -498,7 +517,7 @@ mod tests {
         let origin = crate::io::sample_part::PartOrigin {
             scene: "cornell".into(),
             scene_hash: "00000000000000aa".into(),
-            settings: "path".into(),
+            settings: RenderOptions::default(),
             first_sample: first,
         };
         crate::io::sample_part::save(&sums, &origin, path).expect("save");
@@ -512,8 +531,8 @@ mod tests {
             photon_version: "0".into(),
             scene: "cornell".into(),
             scene_hash: "00000000000000aa".into(),
-            integrator: "path".into(),
-            render_args: Vec::new(),
+            settings: RenderOptions::default(),
+            environment: EnvSettings::default(),
             unit: Unit::Samples,
             total: 2,
             tasks: vec![[0, 1], [1, 2]],

@@ -10,8 +10,9 @@ mod shapes;
 mod values;
 
 use super::source::{Diagnostic, Origins};
-use super::{LightSpec, RenderSpec, SceneDesc};
+use super::{LightSpec, SceneDesc};
 use crate::error::{Error, Result};
+use crate::settings::RenderOptions;
 use scene::{camera, material, render};
 use shapes::{light, shape};
 use std::path::Path;
@@ -82,7 +83,7 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
     };
     let render = match root.get("render") {
         Some(v) => render(&cx.table(v, "[render]")?)?,
-        None => RenderSpec::default(),
+        None => RenderOptions::default(),
     };
     let mut materials = Vec::new();
     if let Some(v) = root.get("materials") {

@@ -1,16 +1,13 @@
 //! The scene-level tables: camera, render settings, materials and their albedo textures.
 
-use super::values::{Table, Value, array, color, float, floats, integer, str_of};
+use super::values::{self, Table, Value, array, color, float, floats, integer, str_of};
 use crate::description::source::did_you_mean;
-use crate::description::{
-    CameraSpec, ColorSpec, ConductorSpec, GATHER_MODES, INTEGRATORS, ImageRef, KERNELS,
-    MaterialSpec, PbrSpec, RenderSpec,
-};
+use crate::description::{CameraSpec, ColorSpec, ConductorSpec, ImageRef, MaterialSpec, PbrSpec};
 use crate::error::{Error, Result};
-use crate::film::PixelFilter;
 use crate::material::{Attenuation, Metal};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::render::MAX_RESOLUTION;
+use crate::settings::{self, RenderOptions};
 use toml::de::DeValue;
 
 pub(super) fn camera(t: &Table) -> Result<CameraSpec> {
@@ -66,62 +63,49 @@ pub(super) fn camera(t: &Table) -> Result<CameraSpec> {
     })
 }
 
-pub(super) fn render(t: &Table) -> Result<RenderSpec> {
-    t.allow(&[
-        "integrator",
-        "spp",
-        "seed",
-        "max_depth",
-        "light_samples",
-        "photons",
-        "caustic_photons",
-        "radius",
-        "gather_rays",
-        "passes",
-        "time",
-        "filter",
-        "kernel",
-        "gather",
-        "k",
-        "alpha",
-        "photons_per_pass",
-    ])?;
-    let filter = match t.get("filter") {
-        Some(v) => {
-            let text = str_of(t.cx, v, &t.label("filter"))?;
-            text.parse::<PixelFilter>()
-                .map_err(|e| t.cx.err(v.span(), e))?;
-            Some(text.to_owned())
-        }
-        None => None,
-    };
-    let alpha = t.opt_f32("alpha")?.map(f64::from);
-    if let Some(a) = alpha
-        && !(a > 0.0 && a < 1.0)
-    {
-        let span = t.get("alpha").map_or(0..0, |v| v.span());
-        return Err(t.cx.err(span, "'alpha' must be between 0 and 1"));
+/// The `[render]` table: every key a setting of [`crate::settings::SETTINGS`], read by the
+/// setting's own type and checked by its own range (not by which integrator takes it: a
+/// scene's settings apply where they are taken).
+pub(super) fn render(t: &Table) -> Result<RenderOptions> {
+    let names: Vec<&str> = settings::SETTINGS.iter().map(|s| s.name).collect();
+    t.allow(&names)?;
+    let mut options = RenderOptions::default();
+    for name in names {
+        let Some(v) = t.get(name) else { continue };
+        let what = t.label(name);
+        let set = match v.get_ref() {
+            DeValue::String(text) => options.set_text(name, text),
+            DeValue::Integer(_) => {
+                let n = integer(t.cx, v, &what, u64::MAX >> 1)?;
+                options.set_json(name, serde_json::Value::from(n))
+            }
+            DeValue::Float(f) => {
+                // Read as written, so that a value written from an `f32` reads back exactly.
+                let x = f.as_str().parse::<f64>().ok().filter(|x| x.is_finite());
+                let x = x.ok_or_else(|| {
+                    t.cx.err(v.span(), format!("{what} must be a finite number"))
+                })?;
+                options.set_json(name, serde_json::Value::from(x))
+            }
+            DeValue::Boolean(b) => options.set_json(name, serde_json::Value::Bool(*b)),
+            DeValue::Array(items) => {
+                let numbers = items
+                    .iter()
+                    .map(|i| integer(t.cx, i, &what, u64::MAX >> 1).map(serde_json::Value::from))
+                    .collect::<Result<Vec<_>>>()?;
+                options.set_json(name, serde_json::Value::Array(numbers))
+            }
+            other => {
+                return Err(t.cx.err(
+                    v.span(),
+                    format!("{what} cannot be {}", values::kind(other)),
+                ));
+            }
+        };
+        set.and_then(|()| options.check_values())
+            .map_err(|e| t.cx.err(v.span(), format!("{what}: {}", e.problem)))?;
     }
-    const U32: u64 = u32::MAX as u64;
-    Ok(RenderSpec {
-        integrator: one_of(t, "integrator", INTEGRATORS)?,
-        spp: t.opt_int("spp", U32)?.map(|x| x as u32),
-        seed: t.opt_int("seed", i64::MAX as u64)?,
-        max_depth: t.opt_int("max_depth", 1 << 16)?.map(|x| x as u32),
-        light_samples: t.opt_int("light_samples", 1 << 16)?.map(|x| x as u32),
-        photons: t.opt_int("photons", 1 << 40)?,
-        caustic_photons: t.opt_int("caustic_photons", 1 << 40)?,
-        radius: t.opt_f32("radius")?,
-        gather_rays: t.opt_int("gather_rays", 1 << 16)?.map(|x| x as u32),
-        passes: t.opt_int("passes", 1 << 40)?,
-        time: t.opt_f32("time")?.map(f64::from),
-        filter,
-        kernel: one_of(t, "kernel", KERNELS)?,
-        gather: one_of(t, "gather", GATHER_MODES)?,
-        k: t.opt_int("k", 1 << 16)?,
-        alpha,
-        photons_per_pass: t.opt_int("photons_per_pass", 1 << 40)?,
-    })
+    Ok(options)
 }
 
 /// An optional string that must be one of `allowed`.
