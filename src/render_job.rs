@@ -133,7 +133,7 @@ impl<'s> RenderJob<'s> {
             return needs(
                 "passes",
                 None,
-                "give passes or a time for a progressive render",
+                "a progressive render needs a number of passes or a time",
             );
         }
         if options.gather_rays == Some(0) && options.gather != Some(GatherMode::None) {

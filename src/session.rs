@@ -6,7 +6,7 @@
 //! A finished run leaves no checkpoint unless its [`CheckpointPlan`] keeps one; an
 //! interrupted or cancelled run leaves one (with every completed pass) to resume from.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SettingError};
 use crate::io::checkpoint::{self, RunInfo};
 use crate::progressive::{PassSeconds, PassStats, ProgressiveState};
 use crate::scene::Scene;
@@ -72,17 +72,36 @@ pub struct Session {
 impl Session {
     /// A run of `state` (fresh, or loaded from a checkpoint) under `budget`.
     pub fn new(state: ProgressiveState, budget: Budget) -> Result<Self> {
-        if budget.passes.is_none() && budget.seconds.is_none() {
-            return Err(Error::InvalidSetting(
-                "give passes or a time for a progressive render".into(),
-            ));
-        }
-        if let Some(s) = budget.seconds
-            && !(s > 0.0 && s.is_finite())
-        {
-            return Err(Error::InvalidSetting(format!(
-                "time {s} must be a positive number of seconds"
-            )));
+        let refuse = |name, value: Option<String>, problem: &str| {
+            Err(Error::Setting(SettingError {
+                name,
+                value,
+                problem: problem.into(),
+            }))
+        };
+        match (budget.passes, budget.seconds) {
+            (None, None) => {
+                return refuse(
+                    "passes",
+                    None,
+                    "a progressive render needs a number of passes or a time",
+                );
+            }
+            (Some(0), _) => {
+                return refuse(
+                    "passes",
+                    Some("0".into()),
+                    "a render needs at least one pass",
+                );
+            }
+            (_, Some(s)) if !(s > 0.0 && s.is_finite()) => {
+                return refuse(
+                    "time",
+                    Some(s.to_string()),
+                    "must be a positive number of seconds",
+                );
+            }
+            _ => {}
         }
         Ok(Self {
             first: state.next_pass(),
@@ -114,6 +133,19 @@ impl Session {
             }),
             seconds: budget.seconds,
         };
+        if let Some(target) = budget.passes
+            && target != 0
+            && target <= state.next_pass()
+        {
+            return Err(Error::Setting(SettingError {
+                name: "passes",
+                value: Some(target.to_string()),
+                problem: format!(
+                    "the checkpoint already holds passes up to {}; give more to go on",
+                    state.next_pass()
+                ),
+            }));
+        }
         let plan = CheckpointPlan {
             path: path.to_owned(),
             info: info.clone(),
@@ -175,6 +207,18 @@ impl Session {
             self.last_checkpoint = Some(Instant::now());
         }
         Ok(Some(stats))
+    }
+
+    /// Save the checkpoint now, if the run has one and a completed pass (an interrupt
+    /// that the caller may follow with more passes).
+    pub fn save_checkpoint(&mut self) -> Result<()> {
+        if let Some(plan) = &self.checkpoint
+            && self.state.passes > 0
+        {
+            checkpoint::save_with(&self.state, &plan.info, &plan.path)?;
+            self.last_checkpoint = Some(Instant::now());
+        }
+        Ok(())
     }
 
     /// Whether a snapshot of the image is due after the pass just run: after passes 1, 2, 4,

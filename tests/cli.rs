@@ -115,9 +115,9 @@ fn bad_input_gives_a_message_and_exit_code_2() {
         "unsupported image format",
     );
     let o = photon(&["render", "--width", "0", "-q"], &dir);
-    assert_usage_error(&o, "has no pixels");
+    assert_usage_error(&o, "--width 0: must be at least 1");
     let o = photon(&["render", "--spp", "0", "-q"], &dir);
-    assert_usage_error(&o, "samples per pixel");
+    assert_usage_error(&o, "--spp 0: must be at least 1");
     let o = photon(&["render", "--filter", "gaussian:abc", "-q"], &dir);
     assert_usage_error(&o, "not a number");
     let o = photon(&["render", "--integrator", "magic", "-q"], &dir);
@@ -443,7 +443,7 @@ fn photon_render_writes_aov_layers_npy_and_reuses_saved_maps() {
         "-o",
         "g.png",
     ]));
-    assert_usage_error(&o, "--gather-rays must be at least 1");
+    assert_usage_error(&o, "--gather-rays 0: must be at least 1");
 }
 
 #[test]

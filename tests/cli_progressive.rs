@@ -32,6 +32,13 @@ fn progressive_resume_and_merge_are_byte_identical() {
         let part = format!("{method}-part.pfm");
         let o = run(&["--integrator", method, "--passes", "5", "-o", &full]);
         assert!(o.status.success(), "{}", stderr(&o));
+        // A finished render leaves no checkpoint, so the same command runs again.
+        assert!(
+            !dir.join(format!("{method}-full.checkpoint")).exists(),
+            "a finished {method} render left its checkpoint"
+        );
+        let again = run(&["--integrator", method, "--passes", "5", "-o", &full]);
+        assert!(again.status.success(), "{}", stderr(&again));
         let o = run(&[
             "--integrator",
             method,
@@ -40,6 +47,7 @@ fn progressive_resume_and_merge_are_byte_identical() {
             "-o",
             &part,
             "--snapshots",
+            "--keep-checkpoint",
         ]);
         assert!(o.status.success(), "{}", stderr(&o));
         assert!(
@@ -106,11 +114,11 @@ fn progressive_resume_and_merge_are_byte_identical() {
             "-o",
             "s.part",
         ]),
-        "needs --integrator ppm",
+        "--pass-range 0..2: the sppm integrator does not take it (it is for ppm)",
     );
     assert_usage_error(
         &run(&["--integrator", "ppm", "-o", "p.png"]),
-        "--passes or --time",
+        "needs a number of passes or a time",
     );
     assert_usage_error(
         &run(&[

@@ -107,7 +107,7 @@ fn out_of_range_flags_are_refused() {
         (vec!["--snapshots"], "for --integrator sppm or ppm"),
         (
             vec!["--integrator", "path", "--gather-rays", "8"],
-            "for --integrator photon",
+            "--gather-rays 8: the path integrator does not take it (it is for photon)",
         ),
     ] {
         let o = tiny(&dir, &args);
@@ -446,7 +446,7 @@ fn nothing_the_user_had_is_overwritten() {
 fn checkpoints_survive_reruns_and_kills() {
     let dir = temp_dir("hardening-kill");
     std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
-    let o = ppm(&dir, "good.exr", "3", &[]);
+    let o = ppm(&dir, "good.exr", "3", &["--keep-checkpoint"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let before = std::fs::read(dir.join("good.checkpoint")).expect("checkpoint");
     let o = ppm(&dir, "good.exr", "1", &[]);
@@ -466,7 +466,7 @@ fn checkpoints_survive_reruns_and_kills() {
         &dir,
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    let o = ppm(&dir, "whole.exr", "4", &[]);
+    let o = ppm(&dir, "whole.exr", "4", &["--keep-checkpoint"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let resumed = photon::io::checkpoint::load(&ck).expect("loads");
     let whole = photon::io::checkpoint::load(&dir.join("whole.checkpoint")).expect("loads");
@@ -573,9 +573,14 @@ fn resume_works_from_anywhere_and_keeps_the_exposure() {
     let dir = temp_dir("hardening-resume");
     std::fs::write(dir.join("s.toml"), SPHERE).expect("write");
     assert!(
-        ppm(&dir, "r.png", "2", &["--exposure", "2"])
-            .status
-            .success()
+        ppm(
+            &dir,
+            "r.png",
+            "2",
+            &["--exposure", "2", "--keep-checkpoint"]
+        )
+        .status
+        .success()
     );
     assert!(
         ppm(&dir, "whole.png", "3", &["--exposure", "2"])

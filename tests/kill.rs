@@ -57,7 +57,16 @@ fn flags(integrator: &str) -> Vec<String> {
 
 fn render(dir: &Path, integrator: &str, out: &str, passes: u64) -> std::process::Output {
     let passes = passes.to_string();
-    let mut args = vec!["render", "s.toml", "--passes", &passes, "-o", out];
+    // The checkpoint is what the kills are checked against, also once the run finishes.
+    let mut args = vec![
+        "render",
+        "s.toml",
+        "--passes",
+        &passes,
+        "-o",
+        out,
+        "--keep-checkpoint",
+    ];
     let f = flags(integrator);
     args.extend(f.iter().map(String::as_str));
     photon(&args, dir)

@@ -11,7 +11,9 @@ use photon::description::Loaded;
 use photon::settings::RenderOptions as RenderSpec;
 use photon::film::Image;
 use photon::photon::{MapKind, PhotonConfig};
+use photon::io::checkpoint::RunInfo;
 use photon::progressive::ProgressiveState;
+use photon::session::{Budget, CheckpointPlan, Ending, Session};
 use photon::render_job::RenderJob;
 use photon::settings::RenderOptions;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -29,8 +31,15 @@ pyo3::create_exception!(
     "A scene, setting or file Photon cannot use; the message names the file, line and column where it can."
 );
 
+/// A library error as a `PhotonError`; a setting's is told as the keyword argument.
 fn to_py(e: photon::Error) -> PyErr {
-    PhotonError::new_err(e.to_string())
+    match e {
+        photon::Error::Setting(s) => PhotonError::new_err(match &s.value {
+            Some(v) => format!("{}={v}: {}", s.name, s.problem),
+            None => format!("{}: {}", s.name, s.problem),
+        }),
+        e => PhotonError::new_err(e.to_string()),
+    }
 }
 
 /// Run `work` on a worker thread with the GIL released, cancelling it on KeyboardInterrupt.
@@ -140,18 +149,20 @@ fn to_json(name: &str, v: &Bound<'_, PyAny>) -> PyResult<serde_json::Value> {
     }
 }
 
-/// Keyword arguments as render options (the names of `photon render`'s flags, with `_`).
+/// Keyword arguments as render options: each a setting of `photon::settings::SETTINGS`, by
+/// the name a scene's `[render]` table gives it.
 fn options(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<RenderOptions> {
-    let mut map = serde_json::Map::new();
+    let mut options = RenderOptions::default();
     if let Some(kw) = kwargs {
         for (k, v) in kw.iter() {
             let k = k.extract::<String>()?;
             let value = to_json(&k, &v)?;
-            map.insert(k, value);
+            options
+                .set_json(&k, value)
+                .map_err(|e| to_py(photon::Error::Setting(e)))?;
         }
     }
-    serde_json::from_value(serde_json::Value::Object(map))
-        .map_err(|e| PhotonError::new_err(format!("render options: {e}")))
+    Ok(options)
 }
 
 /// An image as a float32 array of shape (height, width, 3), linear RGB.
@@ -258,18 +269,29 @@ fn render<'py>(
     Ok((image_array(py, &result.image)?, aovs))
 }
 
-/// A progressive render (sppm or ppm) as an iterator of images, one after each pass. A
-/// KeyboardInterrupt abandons the pass in flight; the completed passes stay, and iterating
-/// again continues from them.
+/// A progressive render (sppm or ppm) as an iterator of images, one after each pass, driven
+/// by the library's `Session`: the budget (passes, time), checkpoints and resume are the
+/// command line's. A KeyboardInterrupt abandons the pass in flight and saves the checkpoint
+/// (if the run has one); iterating again continues from the completed passes. When the budget
+/// is spent the checkpoint is removed, unless it is kept.
 #[pyclass(module = "photon_render")]
 struct Progressive {
     scene: Arc<photon::scene::Scene>,
-    state: ProgressiveState,
-    target: Option<u64>,
-    /// The time budget in seconds, from the first pass (which always runs).
-    time: Option<f64>,
-    started: Option<std::time::Instant>,
+    /// `None` once the budget is spent.
+    session: Option<Session>,
+    /// The last state, kept after the session ends.
+    finished: Option<ProgressiveState>,
     pool: Arc<rayon::ThreadPool>,
+}
+
+impl Progressive {
+    fn state(&self) -> &ProgressiveState {
+        match (&self.session, &self.finished) {
+            (Some(s), _) => s.state(),
+            (None, Some(state)) => state,
+            (None, None) => unreachable!("a run holds a session or its final state"),
+        }
+    }
 }
 
 #[pymethods]
@@ -279,36 +301,70 @@ impl Progressive {
     }
 
     fn __next__<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        let state = &mut self.state;
-        let time_spent = self
-            .time
-            .zip(self.started)
-            .is_some_and(|(t, s)| state.passes > 0 && s.elapsed().as_secs_f64() >= t);
-        if self.target.is_some_and(|t| state.next_pass() >= t) || time_spent {
+        let Some(session) = self.session.as_mut() else {
+            return Ok(None);
+        };
+        if session.is_done() {
+            let session = self.session.take().expect("checked above");
+            self.finished = Some(session.finish(Ending::Finished).map_err(to_py)?);
             return Ok(None);
         }
-        self.started.get_or_insert_with(std::time::Instant::now);
         let (scene, pool) = (self.scene.clone(), self.pool.clone());
-        run_cancellable(py, |cancel| {
-            pool.install(|| state.run_pass_cancellable(&scene, cancel))
-        })?;
-        image_array(py, &state.image()).map(Some)
+        let ran = run_cancellable(py, |cancel| {
+            pool.install(|| session.next_pass(&scene, cancel))
+        });
+        if let Err(interrupt) = ran {
+            session.save_checkpoint().map_err(to_py)?;
+            return Err(interrupt);
+        }
+        image_array(py, &session.state().image()).map(Some)
     }
 
-    /// Passes done so far.
+    /// Passes done so far (counting those of the checkpoint a resumed run started from).
     #[getter]
     fn passes(&self) -> u64 {
-        self.state.passes
+        self.state().next_pass()
     }
+
+    /// The image of the passes done so far.
+    fn image<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        image_array(py, &self.state().image())
+    }
+}
+
+/// The `checkpoint` keyword: a path, or `None` for no checkpoint.
+fn checkpoint_plan(
+    path: Option<PathBuf>,
+    every: f64,
+    keep: bool,
+    target: Option<u64>,
+) -> PyResult<Option<CheckpointPlan>> {
+    if !(every >= 0.0 && every.is_finite()) {
+        return Err(PhotonError::new_err(format!(
+            "checkpoint_every={every}: must be a number of seconds ≥ 0"
+        )));
+    }
+    Ok(path.map(|path| CheckpointPlan {
+        info: RunInfo {
+            target_passes: target,
+            ..RunInfo::default()
+        },
+        path: std::path::absolute(&path).unwrap_or(path),
+        every: Duration::from_secs_f64(every),
+        keep,
+    }))
 }
 
 /// `photon_render.progressive(scene, passes=64, integrator="sppm", ...)`: see the module.
 #[pyfunction]
-#[pyo3(signature = (scene, *, threads = None, **kwargs))]
+#[pyo3(signature = (scene, *, threads = None, checkpoint = None, checkpoint_every = 30.0, keep_checkpoint = false, **kwargs))]
 fn progressive(
     py: Python<'_>,
     scene: &Scene,
     threads: Option<&Bound<'_, PyAny>>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: f64,
+    keep_checkpoint: bool,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Progressive> {
     let threads = threads_arg(threads)?;
@@ -316,8 +372,11 @@ fn progressive(
     if options.integrator.is_none() {
         options.integrator = Some(photon::settings::IntegratorKind::Sppm);
     }
+    if let Some(path) = &checkpoint {
+        photon::io::atomic::check_writable_path(path).map_err(to_py)?;
+    }
     let (inner, spec) = (scene.inner.clone(), scene.spec.clone());
-    let (state, target, time) = run_cancellable(py, move |_| {
+    let session = run_cancellable(py, move |_| {
         let job = RenderJob::new(&inner, &spec, options)?;
         if !job.integrator().is_progressive() {
             return Err(photon::Error::InvalidSetting(format!(
@@ -325,18 +384,63 @@ fn progressive(
                 job.integrator().name()
             )));
         }
-        Ok((
-            job.progressive_state()?,
-            job.target_passes(),
-            job.options().time,
-        ))
+        job.session()
     })?;
+    let plan = checkpoint_plan(
+        checkpoint,
+        checkpoint_every,
+        keep_checkpoint,
+        session.budget().passes,
+    )?;
     Ok(Progressive {
         scene: scene.inner.clone(),
-        state,
-        target,
-        time,
-        started: None,
+        session: Some(match plan {
+            Some(plan) => session.with_checkpoints(plan),
+            None => session,
+        }),
+        finished: None,
+        pool: Arc::new(pool(threads)?),
+    })
+}
+
+/// `photon_render.resume(scene, "run.checkpoint", passes=128)`: go on from a checkpoint of
+/// `scene` (the same scene, checked by content), saving to it as before; it is kept.
+#[pyfunction]
+#[pyo3(signature = (scene, checkpoint, *, passes = None, time = None, threads = None, checkpoint_every = 30.0))]
+fn resume(
+    py: Python<'_>,
+    scene: &Scene,
+    checkpoint: PathBuf,
+    passes: Option<&Bound<'_, PyAny>>,
+    time: Option<f64>,
+    threads: Option<&Bound<'_, PyAny>>,
+    checkpoint_every: f64,
+) -> PyResult<Progressive> {
+    let threads = threads_arg(threads)?;
+    let passes = passes
+        .filter(|p| !p.is_none())
+        .map(|p| whole("passes", p, i64::MAX))
+        .transpose()?;
+    let budget = Budget {
+        passes,
+        seconds: time,
+    };
+    let (session, info) = py
+        .detach(|| Session::resume(&checkpoint, budget))
+        .map_err(to_py)?;
+    if session.state().scene_hash != scene.inner.content_hash() {
+        return Err(PhotonError::new_err(format!(
+            "'{}' was written for another scene (or another version of '{}'); it cannot be continued with this one",
+            checkpoint.display(),
+            session.state().scene_name
+        )));
+    }
+    let plan = checkpoint_plan(Some(checkpoint), checkpoint_every, true, info.target_passes)?
+        .expect("a path was given");
+    Ok(Progressive {
+        scene: scene.inner.clone(),
+        session: Some(session.with_checkpoints(plan)),
+        finished: None,
         pool: Arc::new(pool(threads)?),
     })
 }
@@ -483,6 +587,7 @@ fn _photon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(progressive, m)?)?;
+    m.add_function(wrap_pyfunction!(resume, m)?)?;
     m.add_function(wrap_pyfunction!(trace_photons, m)?)?;
     m.add_function(wrap_pyfunction!(load_photons, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

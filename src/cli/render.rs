@@ -533,17 +533,23 @@ pub fn plan_job(scene_and_flags: &[String]) -> Result<JobPlan> {
     refuse_per_run_flags(&a)?;
     let (loaded, files) = photon::io::input::recording(|| super::scene_with(&a.scene, &a.env));
     let (scene, spec, _) = loaded?;
+    let options = a.options();
+    let kind = options
+        .integrator
+        .or(spec.integrator)
+        .unwrap_or(photon::settings::defaults::INTEGRATOR);
+    if kind == IntegratorKind::Ppm && options.passes.or(spec.passes).is_none() {
+        bail!("give --passes: a ppm job splits its passes into tasks");
+    }
     // The whole render must be valid before it is split.
-    let job = RenderJob::new(&scene, &spec, a.options())?;
+    let job = RenderJob::new(&scene, &spec, options)?;
     let (unit, total) = match job.integrator() {
         IntegratorKind::Sppm => bail!(
             "sppm cannot be split into tasks: each pass shrinks the radii the last one left, so passes depend on each other; use --integrator ppm, whose passes are independent"
         ),
         IntegratorKind::Ppm => (
             photon::job::Unit::Passes,
-            job.options()
-                .passes
-                .context("give --passes: a ppm job splits its passes into tasks")?,
+            job.options().passes.context("a ppm job needs --passes")?,
         ),
         _ => (photon::job::Unit::Samples, u64::from(job.settings().spp)),
     };

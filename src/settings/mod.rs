@@ -197,9 +197,9 @@ macro_rules! render_settings {
                         name: entry.name,
                         value: (!entry.is_switch).then_some(value),
                         problem: format!(
-                            "a setting of {}; {} does not take it",
-                            entry.takes.names(),
-                            kind.name()
+                            "the {} integrator does not take it (it is for {})",
+                            kind.name(),
+                            entry.takes.names()
                         ),
                     });
                 }
@@ -475,7 +475,11 @@ mod tests {
         let e = o.check_each(IntegratorKind::Path).expect_err("refused");
         assert_eq!(e.name, "photons");
         assert_eq!(e.value.as_deref(), Some("1000"));
-        assert!(e.problem.contains("a setting of photon; path"), "{e}");
+        assert!(
+            e.problem
+                .contains("the path integrator does not take it (it is for photon)"),
+            "{e}"
+        );
         assert!(o.check_each(IntegratorKind::Photon).is_ok());
     }
 
