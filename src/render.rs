@@ -34,6 +34,19 @@ pub struct RenderSettings {
     pub filter: PixelFilter,
 }
 
+impl RenderSettings {
+    /// `width`×`height` at `spp` samples per pixel, seed 0, a box filter.
+    pub fn new(width: u32, height: u32, spp: u32) -> Self {
+        Self {
+            width,
+            height,
+            spp,
+            seed: 0,
+            filter: PixelFilter::Box,
+        }
+    }
+}
+
 /// Largest image side we accept: far beyond any real use, small enough that the pixel buffer
 /// cannot exhaust memory.
 pub const MAX_RESOLUTION: u32 = 32_768;

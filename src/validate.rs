@@ -185,11 +185,9 @@ pub fn run(case: &Case, loaded: &Loaded, method: Method, budget: &Budget) -> Res
 /// The image `method` makes of `scene` with `budget` (seed 0, box filter).
 pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Image> {
     let settings = |spp| RenderSettings {
-        width: budget.size,
-        height: budget.size,
-        spp,
         seed: 0,
         filter: PixelFilter::Box,
+        ..RenderSettings::new(budget.size, budget.size, spp)
     };
     let none = |_, _| {};
     match method {

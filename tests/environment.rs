@@ -193,11 +193,9 @@ radiance = 1.0
     let desc = read_str(text, Path::new("furnace.toml"), Path::new(".")).expect("reads");
     let scene = build(&desc).expect("builds");
     let settings = RenderSettings {
-        width: 12,
-        height: 12,
-        spp: 64,
         seed: 3,
         filter: photon::film::PixelFilter::Box,
+        ..RenderSettings::new(12, 12, 64)
     };
     let config = PhotonConfig {
         photons: 200_000,

@@ -228,11 +228,9 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
 fn direct_render(scene: &Scene, size: u32) -> Image {
     let integrator = Integrator::Direct(DirectConfig::default());
     let s = RenderSettings {
-        width: size,
-        height: size,
-        spp: 4,
         seed: 1,
         filter: PixelFilter::Box,
+        ..RenderSettings::new(size, size, 4)
     };
     render(scene, &integrator, &s, &|_, _| {})
         .expect("renders")

@@ -9,7 +9,7 @@ mod common;
 use photon::description::build::build;
 use photon::description::gltf::{import_scene, read_meshes};
 use photon::description::{EnvironmentSpec, MaterialSpec, Sky, load_scene_edited};
-use photon::film::{Image, PixelFilter};
+use photon::film::Image;
 use photon::integrator::{DirectConfig, Integrator};
 use photon::material::Attenuation;
 use photon::math::{Ray, Rgb, Vec3};
@@ -27,11 +27,8 @@ fn fixture(name: &str) -> PathBuf {
 
 fn direct_render(scene: &Scene, width: u32, height: u32) -> Image {
     let settings = RenderSettings {
-        width,
-        height,
-        spp: 4,
         seed: 1,
-        filter: PixelFilter::Box,
+        ..RenderSettings::new(width, height, 4)
     };
     render(
         scene,

@@ -78,11 +78,9 @@ fn grazing_patch() -> Scene {
 
 fn settings(w: u32, h: u32, spp: u32) -> RenderSettings {
     RenderSettings {
-        width: w,
-        height: h,
-        spp,
         seed: 5,
         filter: PixelFilter::Box,
+        ..RenderSettings::new(w, h, spp)
     }
 }
 

@@ -197,11 +197,9 @@ fn directional_light_gives_the_closed_form_irradiance() {
 
     let integrator = Integrator::Direct(DirectConfig::default());
     let s = RenderSettings {
-        width: 8,
-        height: 8,
-        spp: 1,
         seed: 0,
         filter: PixelFilter::Box,
+        ..RenderSettings::new(8, 8, 1)
     };
     let img = render(&scene, &integrator, &s, &|_, _| {})
         .expect("renders")
@@ -298,11 +296,9 @@ texture = "half.png"
         light.power().x
     );
     let settings = RenderSettings {
-        width: 16,
-        height: 16,
-        spp: 64,
         seed: 1,
         filter: photon::film::PixelFilter::Box,
+        ..RenderSettings::new(16, 16, 64)
     };
     let direct = Integrator::Direct(DirectConfig::default());
     let floor = render(&down, &direct, &settings, &|_, _| {})

@@ -390,11 +390,9 @@ fn the_default_scene_shows_the_pot_lit_with_photon_mapped_indirect_light() {
     let settings = PhotonSettings::for_scene(&scene);
     let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(settings, Arc::new(maps))));
     let s = RenderSettings {
-        width: w,
-        height: h,
-        spp: 4,
         seed: 1,
         filter: PixelFilter::Box,
+        ..RenderSettings::new(w, h, 4)
     };
     let out = render(&scene, &integrator, &s, &|_, _| {}).expect("renders");
     // Pot pixels (terracotta albedo): directly lit on the side facing the light, and receiving

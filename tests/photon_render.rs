@@ -107,11 +107,9 @@ fn run(
     spp: u32,
 ) -> RenderOutput {
     let s = RenderSettings {
-        width: w,
-        height: h,
-        spp,
         seed: 7,
         filter: PixelFilter::Box,
+        ..RenderSettings::new(w, h, spp)
     };
     render(scene, integrator, &s, &|_, _| {}).expect("renders")
 }

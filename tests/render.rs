@@ -11,11 +11,8 @@ use photon::render::{RenderSettings, render};
 
 fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
     RenderSettings {
-        width,
-        height,
-        spp,
         seed: 1,
-        filter: PixelFilter::Box,
+        ..RenderSettings::new(width, height, spp)
     }
 }
 

@@ -160,11 +160,9 @@ fn small_render(scene: &Scene) -> Image {
     let settings = PhotonSettings::for_scene(scene);
     let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(settings, Arc::new(maps))));
     let s = RenderSettings {
-        width: 24,
-        height: 24,
-        spp: 1,
         seed: 3,
         filter: PixelFilter::Box,
+        ..RenderSettings::new(24, 24, 1)
     };
     render(scene, &integrator, &s, &|_, _| {})
         .expect("renders")

@@ -35,11 +35,9 @@ fn seed_scene_matches_the_original_layout() {
         .to_rgb8();
     let scene = builtin::load("seed").expect("builds");
     let settings = RenderSettings {
-        width: N,
-        height: N,
-        spp: 16,
         seed: 3,
         filter: PixelFilter::Box,
+        ..RenderSettings::new(N, N, 16)
     };
     let ours = render(
         &scene,

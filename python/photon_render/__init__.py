@@ -10,6 +10,8 @@ scene and settings give the same image, bit for bit::
 
     for image in photon_render.progressive(scene, passes=16):   # sppm, an image per pass
         ...
+    run = photon_render.progressive(scene, time=60, checkpoint="c.checkpoint")
+    run = photon_render.resume(scene, "c.checkpoint", passes=200)   # after a crash or kill
 
     maps = photon_render.trace_photons(scene, photons=1_000_000)
     maps.arrays("global")["positions"]             # (N, 3) float32
@@ -28,6 +30,7 @@ from ._photon import (
     load_scene,
     progressive,
     render,
+    resume,
     trace_photons,
 )
 
@@ -41,5 +44,6 @@ __all__ = [
     "load_scene",
     "progressive",
     "render",
+    "resume",
     "trace_photons",
 ]

@@ -32,13 +32,13 @@ def render(
     *,
     threads: int | None = None,
     integrator: Literal["photon", "direct", "path", "sppm", "ppm"] | None = None,
-    spp: int | None = None,
     width: int | None = None,
     height: int | None = None,
+    filter: str | None = None,
+    spp: int | None = None,
     seed: int | None = None,
     max_depth: int | None = None,
     light_samples: int | None = None,
-    filter: str | None = None,
     photons: int | None = None,
     caustic_photons: int | None = None,
     radius: float | None = None,
@@ -47,7 +47,7 @@ def render(
     gather: Literal["final", "none"] | None = None,
     gather_rays: int | None = None,
     indirect_scale: float | None = None,
-    per_channel: bool = False,
+    per_channel: bool | None = None,
     absorption: float | None = None,
     passes: int | None = None,
     time: float | None = None,
@@ -56,19 +56,47 @@ def render(
     sample_range: tuple[int, int] | None = None,
     pass_range: tuple[int, int] | None = None,
 ) -> tuple[Image, dict[str, Image]]:
-    """Render as `photon render` would: (image (H, W, 3) float32 linear RGB, AOVs)."""
+    """Render as `photon render` would: (image (H, W, 3) float32 linear RGB, AOVs). Each
+    keyword is a render setting (README: render settings); `None` takes the scene's
+    `[render]` value or the default. A setting the integrator does not take is an error."""
 
 class Progressive(Iterator[Image]):
     @property
-    def passes(self) -> int: ...
+    def passes(self) -> int:
+        """Passes done so far, counting those of the checkpoint a resumed run began from."""
+    def image(self) -> Image:
+        """The image of the passes done so far."""
     def __iter__(self) -> Progressive: ...
     def __next__(self) -> Image: ...
 
-def progressive(scene: Scene, *, threads: int | None = None, **options: object) -> Progressive:
+def progressive(
+    scene: Scene,
+    *,
+    threads: int | None = None,
+    checkpoint: str | PathLike[str] | None = None,
+    checkpoint_every: float = 30.0,
+    keep_checkpoint: bool = False,
+    **options: object,
+) -> Progressive:
     """An sppm (default) or ppm render as an iterator of images, one after each pass; the
     options are `render`'s (give `passes` or `time`, counted from the first pass, which
-    always runs). A KeyboardInterrupt abandons the pass in flight; the completed passes
-    stay, and iterating again continues from them."""
+    always runs). With `checkpoint`, the state is saved there after the first pass, every
+    `checkpoint_every` seconds and on KeyboardInterrupt, and removed when the budget is
+    spent unless `keep_checkpoint`. A KeyboardInterrupt abandons the pass in flight; the
+    completed passes stay, and iterating again continues from them."""
+
+def resume(
+    scene: Scene,
+    checkpoint: str | PathLike[str],
+    *,
+    passes: int | None = None,
+    time: float | None = None,
+    threads: int | None = None,
+    checkpoint_every: float = 30.0,
+) -> Progressive:
+    """Go on from a checkpoint of `scene` (refused for another scene) to `passes` (a pass
+    number; the run's own target if neither is given) or for `time` seconds; the images are
+    bit-identical to an uninterrupted run's. The checkpoint is kept and updated."""
 
 class PhotonArrays(TypedDict):
     positions: npt.NDArray[np.float32]

@@ -35,6 +35,7 @@ pyo3::create_exception!(
 fn to_py(e: photon::Error) -> PyErr {
     match e {
         photon::Error::Setting(s) => PhotonError::new_err(match &s.value {
+            _ if s.name.is_empty() => s.problem,
             Some(v) => format!("{}={v}: {}", s.name, s.problem),
             None => format!("{}: {}", s.name, s.problem),
         }),

@@ -124,9 +124,9 @@ def test_errors_are_photon_errors_with_file_line_and_column(tmp_path):
     with pytest.raises(photon_render.PhotonError, match=r"bad\.toml:4:1: unknown key 'radus'"):
         photon_render.load_scene(bad)
     scene = photon_render.load_scene("cornell")
-    with pytest.raises(photon_render.PhotonError, match="unknown field `spp2`"):
+    with pytest.raises(photon_render.PhotonError, match="'spp2' is not a render setting"):
         photon_render.render(scene, spp2=4)
-    with pytest.raises(photon_render.PhotonError, match="give passes or a time"):
+    with pytest.raises(photon_render.PhotonError, match="a progressive render needs a number of passes or a time"):
         photon_render.render(scene, integrator="sppm")
     assert issubclass(photon_render.PhotonError, ValueError)
 
@@ -298,3 +298,81 @@ def test_a_time_budget_shorter_than_a_pass_renders_one():
     it = photon_render.progressive(scene, **options)
     assert len(list(it)) == 1
     assert it.passes == 1
+
+
+def test_a_time_budget_ends_the_iteration():
+    scene = photon_render.load_scene("cornell")
+    it = photon_render.progressive(
+        scene, integrator="sppm", time=0.5, width=8, height=8, photons_per_pass=2000
+    )
+    for count, _ in enumerate(it, start=1):
+        assert count < 1_000_000, "a time budget never ended the iteration"
+    assert it.passes == count >= 1
+    # Spent, it stays spent.
+    assert next(it, None) is None
+
+
+KILLED_RUN = """
+import sys, photon_render
+scene = photon_render.load_scene(sys.argv[1])
+run = photon_render.progressive(scene, checkpoint=sys.argv[2], checkpoint_every=0, **OPTIONS)
+for image in run:
+    print(run.passes, flush=True)
+"""
+
+PROGRESSIVE_OPTIONS = dict(integrator="sppm", passes=30, width=16, height=12, photons_per_pass=20000)
+
+
+def test_a_checkpointed_run_killed_and_resumed_is_bit_identical(scene_file, tmp_path):
+    import signal
+
+    scene = photon_render.load_scene(scene_file)
+    whole_run = photon_render.progressive(
+        scene, checkpoint=tmp_path / "whole.checkpoint", **PROGRESSIVE_OPTIONS
+    )
+    whole = list(whole_run)[-1]
+    # A finished run removes its checkpoint.
+    assert not (tmp_path / "whole.checkpoint").exists()
+
+    checkpoint = tmp_path / "run.checkpoint"
+    script = "OPTIONS = " + repr(PROGRESSIVE_OPTIONS) + KILLED_RUN
+    child = subprocess.Popen(
+        [sys.executable, "-c", script, str(scene_file), str(checkpoint)],
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    for line in child.stdout:
+        if int(line) >= 3:
+            break
+    child.send_signal(signal.SIGKILL)
+    child.wait()
+    assert checkpoint.exists()
+
+    resumed_run = photon_render.resume(scene, checkpoint)
+    assert 3 <= resumed_run.passes < PROGRESSIVE_OPTIONS["passes"]
+    resumed = list(resumed_run)[-1]
+    assert resumed_run.passes == PROGRESSIVE_OPTIONS["passes"]
+    assert np.array_equal(resumed, whole)
+    # The checkpoint was the run's input: it stays.
+    assert checkpoint.exists()
+
+
+def test_resume_refuses_another_scene(scene_file, tmp_path):
+    scene = photon_render.load_scene(scene_file)
+    checkpoint = tmp_path / "kept.checkpoint"
+    run = photon_render.progressive(
+        scene, checkpoint=checkpoint, keep_checkpoint=True, passes=1, width=4, height=4,
+        photons_per_pass=1000,
+    )
+    list(run)
+    assert checkpoint.exists()
+    with pytest.raises(photon_render.PhotonError, match="another scene"):
+        photon_render.resume(photon_render.load_scene("cornell"), checkpoint, passes=2)
+
+
+def test_a_setting_the_integrator_does_not_take_is_refused_by_name():
+    scene = photon_render.load_scene("cornell")
+    with pytest.raises(photon_render.PhotonError, match=r"photons=1000: the path integrator does not take it"):
+        photon_render.render(scene, integrator="path", photons=1000, width=4, height=4)
+    with pytest.raises(photon_render.PhotonError, match="not a render setting"):
+        photon_render.render(scene, integrator="path", spp=1, bogus=1)

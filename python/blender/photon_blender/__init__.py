@@ -84,9 +84,11 @@ class PhotonRenderSettings(bpy.types.PropertyGroup):
     photons_per_pass: bpy.props.IntProperty(
         name="Photons per Pass", default=100_000, min=1000, max=100_000_000
     )
-    spp: bpy.props.IntProperty(name="Samples", default=16, min=1, max=65536)
+    spp: bpy.props.IntProperty(name="Samples", default=0, min=0, max=65536,
+                               description="Samples per pixel; 0: the integrator's default")
     photons: bpy.props.IntProperty(name="Photons", default=250_000, min=1000)
-    max_depth: bpy.props.IntProperty(name="Max Depth", default=16, min=1, max=1024)
+    max_depth: bpy.props.IntProperty(name="Max Depth", default=0, min=0, max=1024,
+                                     description="Maximum bounces; 0: the integrator's default")
     seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
     threads: bpy.props.IntProperty(name="Threads", default=0, min=0, max=256,
                                    description="0: one per core")
@@ -228,12 +230,16 @@ def export_scene(depsgraph, directory, report=lambda m: None):
 
 
 def options(settings):
-    o = {"integrator": settings.integrator, "seed": settings.seed,
-         "max_depth": settings.max_depth}
+    """The panel's render settings for the chosen integrator (Photon refuses a setting the
+    integrator does not take); 0 leaves spp and max_depth to the integrator's default."""
+    o = {"integrator": settings.integrator, "seed": settings.seed}
+    if settings.max_depth:
+        o["max_depth"] = settings.max_depth
     if settings.integrator in ("sppm", "ppm"):
         o.update(passes=settings.passes, photons_per_pass=settings.photons_per_pass)
     else:
-        o["spp"] = settings.spp
+        if settings.spp:
+            o["spp"] = settings.spp
         if settings.integrator == "photon":
             o["photons"] = settings.photons
     return o
