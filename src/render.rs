@@ -32,10 +32,12 @@ pub struct RenderSettings {
     pub spp: u32,
     pub seed: u64,
     pub filter: PixelFilter,
+    /// Each sample's radiance is scaled down to at most this in every channel.
+    pub max_radiance: Option<f32>,
 }
 
 impl RenderSettings {
-    /// `width`×`height` at `spp` samples per pixel, seed 0, a box filter.
+    /// `width`×`height` at `spp` samples per pixel, seed 0, a box filter, no clamp. no clamp.
     pub fn new(width: u32, height: u32, spp: u32) -> Self {
         Self {
             width,
@@ -43,6 +45,7 @@ impl RenderSettings {
             spp,
             seed: 0,
             filter: PixelFilter::Box,
+            max_radiance: None,
         }
     }
 }
@@ -250,7 +253,11 @@ fn render_pixel(
         let mut rng = Rng::keyed(s.seed, &[pixel, u64::from(i)]);
         let u = stratified_2d(i, s.spp, rotation, rng.next_2d());
         let ray = camera.ray(s.filter.sample_position(x, y, u));
-        mean.add(&integrator.sample(scene, &ray, &mut rng, stats));
+        let sample = integrator.sample(scene, &ray, &mut rng, stats);
+        mean.add(&match s.max_radiance {
+            Some(max) => sample.clamped(max),
+            None => sample,
+        });
     }
     mean
 }

@@ -203,6 +203,7 @@ impl<'s> RenderJob<'s> {
             spp: o.spp.unwrap_or(defaults::spp(self.integrator)),
             seed: o.seed.unwrap_or(defaults::SEED),
             filter: self.filter(),
+            max_radiance: o.max_radiance,
         }
     }
 

@@ -55,6 +55,26 @@ pub struct Sample {
     pub normal: Vec3,
 }
 
+impl Sample {
+    /// The sample scaled so that no channel of its radiance exceeds `max`, its colour (and
+    /// the split `direct + caustic + indirect = beauty`) kept: the clamp of pbrt-v4's
+    /// `maxcomponentvalue`. It trades the variance of rare bright paths for a darker bias.
+    pub fn clamped(self, max: f32) -> Self {
+        let peak = self.beauty.max_element();
+        if peak <= max || !peak.is_finite() {
+            return self;
+        }
+        let scale = max / peak;
+        Self {
+            beauty: self.beauty * scale,
+            direct: self.direct * scale,
+            caustic: self.caustic * scale,
+            indirect: self.indirect * scale,
+            ..self
+        }
+    }
+}
+
 #[derive(Clone, Debug)]
 pub enum Integrator {
     Direct(DirectConfig),

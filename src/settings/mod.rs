@@ -351,6 +351,11 @@ render_settings! {
         default: DefaultValue::Value(|k| d::light_samples(k).to_string()), note: "",
         check: at_least_one,
     }
+    /// Largest radiance a camera sample may carry: a brighter sample is scaled down to it, keeping its colour (pbrt's maxcomponentvalue). It removes fireflies and biases the image darker.
+    max_radiance: f32 {
+        group: Sampling, takes: Takes::SAMPLES,
+        default: DefaultValue::Decided("no limit"), note: "", check: positive_finite_f32,
+    }
     /// Photons for the global map.
     photons: u64 {
         group: PhotonMapping, takes: Takes::PHOTON,
