@@ -233,10 +233,8 @@ fn load_scene(py: Python<'_>, name_or_path: PathBuf) -> PyResult<Scene> {
     })
 }
 
-/// Render `scene` as `photon render` would. Keyword options are `photon render`'s flags with
-/// `_` for `-`: integrator, spp, width, height, seed, max_depth, light_samples, filter,
-/// photons, caustic_photons, radius, k, kernel, gather, gather_rays, indirect_scale,
-/// per_channel, absorption, passes, time, photons_per_pass, alpha, sample_range, pass_range.
+/// Render `scene` as `photon render` would. Each keyword is a render setting of
+/// `photon::settings::SETTINGS`, by its `[render]` name (`photon render`'s flag with `_`).
 /// Returns (image, aovs): a float32 array (height, width, 3) and a dict of AOV arrays
 /// (direct, caustic, indirect, albedo, normal; empty for sppm and ppm).
 #[pyfunction]
