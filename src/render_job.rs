@@ -11,6 +11,8 @@
 use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter};
 use crate::integrator::{DirectConfig, Integrator, PathConfig, PhotonIntegrator, PhotonSettings};
+use crate::io::checkpoint::RunInfo;
+use crate::io::sample_part::PartOrigin;
 use crate::photon::{Kernel, PhotonConfig, PhotonMaps, trace_photons};
 use crate::progressive::{Method, ProgressiveConfig, ProgressiveState};
 use crate::render::{RenderOutput, RenderSettings, render_samples_cancellable};
@@ -19,6 +21,7 @@ use crate::session::{Budget, Ending, Session};
 use crate::settings::{
     DefaultValue, GatherMode, IntegratorKind, RenderOptions, SETTINGS, SettingError, defaults,
 };
+use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -252,6 +255,25 @@ impl<'s> RenderJob<'s> {
             sample_range: None,
             ..self.options.clone()
         }
+    }
+
+    /// Write a partial render (`sample_range` or `pass_range`) to the `.part` file `path`:
+    /// the fixed-point sums of its samples with the settings they were rendered with, or
+    /// the state of its ppm passes.
+    pub fn write_part(&self, result: &RenderResult, path: &Path) -> Result<()> {
+        if let Some(state) = &result.state {
+            return crate::io::checkpoint::save_with(state, &RunInfo::default(), path);
+        }
+        let out = result.output.as_ref().ok_or_else(|| {
+            Error::InvalidSetting("a partial render needs its samples or passes".into())
+        })?;
+        let origin = PartOrigin {
+            scene: self.scene.name.clone(),
+            scene_hash: format!("{:016x}", self.scene.content_hash()),
+            settings: self.sample_identity(),
+            first_sample: self.options.sample_range.map_or(0, |r| r.start as u32),
+        };
+        crate::io::sample_part::save(&out.sums, &origin, path)
     }
 
     /// The integrator of a path, direct or photon render, tracing photon maps if it needs

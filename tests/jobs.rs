@@ -263,7 +263,10 @@ fn what_cannot_be_split_is_refused_with_the_reason() {
             vec!["cornell", "--integrator", "sppm", "--passes", "8"],
             "passes depend on each other",
         ),
-        (vec!["cornell", "--integrator", "ppm"], "give --passes"),
+        (
+            vec!["cornell", "--integrator", "ppm"],
+            "--passes: a ppm job splits its passes into tasks",
+        ),
         (
             vec![
                 "cornell",

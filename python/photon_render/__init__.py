@@ -13,6 +13,10 @@ scene and settings give the same image, bit for bit::
     run = photon_render.progressive(scene, time=60, checkpoint="c.checkpoint")
     run = photon_render.resume(scene, "c.checkpoint", passes=200)   # after a crash or kill
 
+    photon_render.job_create("job", "scene.toml", tasks=8, integrator="ppm", passes=64)
+    photon_render.job_run("job", 3)                # one task, on any machine sharing the folder
+    image, info = photon_render.job_merge("job")   # bit for bit the whole render's image
+
     maps = photon_render.trace_photons(scene, photons=1_000_000)
     maps.arrays("global")["positions"]             # (N, 3) float32
 
@@ -28,6 +32,9 @@ from ._photon import (
     __version__,
     load_photons,
     load_scene,
+    job_create,
+    job_merge,
+    job_run,
     progressive,
     render,
     resume,
@@ -42,6 +49,9 @@ __all__ = [
     "__version__",
     "load_photons",
     "load_scene",
+    "job_create",
+    "job_merge",
+    "job_run",
     "progressive",
     "render",
     "resume",

@@ -125,3 +125,28 @@ def trace_photons(
     threads: int | None = None,
 ) -> PhotonMaps: ...
 def load_photons(path: str | PathLike[str]) -> PhotonMaps: ...
+
+def job_create(
+    folder: str | PathLike[str], scene: str | PathLike[str], *, tasks: int, **options: object
+) -> int:
+    """Write a job folder as `photon job create` does: the scene (a built-in's name or a
+    file) with every file it reads, the settings (`render`'s keywords), and the ranges of
+    `tasks` tasks (passes for ppm, samples per pixel for path, direct and photon). Returns the
+    number of tasks."""
+
+def job_run(
+    folder: str | PathLike[str], task: int, *, threads: int | None = None
+) -> Literal["rendered", "already done", "done by another worker", "busy"]:
+    """Render one task into `folder/parts/TASK.part`, as `photon job run` does."""
+
+class JobInfo(TypedDict):
+    done: int
+    tasks: int
+    units: int
+    total: int
+    missing: list[int]
+    problems: list[str]
+
+def job_merge(folder: str | PathLike[str]) -> tuple[Image, JobInfo]:
+    """Merge the parts present; with every task done, the image of one uninterrupted render,
+    bit for bit."""

@@ -444,6 +444,76 @@ fn resume(
     })
 }
 
+/// `photon_render.job_create("job", "scene.toml", tasks=8, integrator="ppm", passes=64)`: a
+/// job folder, as `photon job create` writes it (the scene with every file it reads, the
+/// settings, the tasks' ranges). Returns the number of tasks.
+#[pyfunction]
+#[pyo3(signature = (folder, scene, *, tasks, **kwargs))]
+fn job_create(
+    py: Python<'_>,
+    folder: PathBuf,
+    scene: PathBuf,
+    tasks: &Bound<'_, PyAny>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<usize> {
+    let tasks: u64 = whole("tasks", tasks, i64::from(u32::MAX))?;
+    let settings = options(kwargs)?;
+    let scene = scene.to_string_lossy().into_owned();
+    py.detach(|| {
+        let plan = photon::job::plan(&scene, settings, Default::default())?;
+        photon::job::create(&folder, &plan, tasks).map(|m| m.tasks.len())
+    })
+    .map_err(to_py)
+}
+
+/// `photon_render.job_run("job", 3)`: render task 3 of a job into its part, as
+/// `photon job run` does. Returns "rendered", "already done", "done by another worker", or
+/// "busy" (another live worker holds it).
+#[pyfunction]
+#[pyo3(signature = (folder, task, *, threads = None))]
+fn job_run(
+    py: Python<'_>,
+    folder: PathBuf,
+    task: &Bound<'_, PyAny>,
+    threads: Option<&Bound<'_, PyAny>>,
+) -> PyResult<&'static str> {
+    let task: usize = whole("task", task, i64::from(u32::MAX))?;
+    let pool = pool(threads_arg(threads)?)?;
+    let outcome = run_cancellable(py, |cancel| {
+        pool.install(|| photon::job::run_task(&folder, task, cancel))
+    })?;
+    Ok(match outcome {
+        photon::job::TaskOutcome::Rendered { .. } => "rendered",
+        photon::job::TaskOutcome::AlreadyDone => "already done",
+        photon::job::TaskOutcome::DoneByAnother => "done by another worker",
+        photon::job::TaskOutcome::Busy { .. } => "busy",
+    })
+}
+
+/// `image, info = photon_render.job_merge("job")`: the parts present merged, bit for bit the
+/// image of one uninterrupted render once every task is done; `info` has `done`, `tasks`,
+/// `units` (passes or samples per pixel merged), `total` and `missing` (task numbers).
+#[pyfunction]
+fn job_merge<'py>(
+    py: Python<'py>,
+    folder: PathBuf,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+    let (merged, manifest) = py
+        .detach(|| {
+            let manifest = photon::job::Manifest::load(&folder)?;
+            photon::job::merge(&folder).map(|m| (m, manifest))
+        })
+        .map_err(to_py)?;
+    let info = PyDict::new(py);
+    info.set_item("done", merged.done)?;
+    info.set_item("tasks", manifest.tasks.len())?;
+    info.set_item("units", merged.units)?;
+    info.set_item("total", manifest.total)?;
+    info.set_item("missing", merged.missing)?;
+    info.set_item("problems", merged.problems)?;
+    Ok((image_array(py, &merged.image)?, info))
+}
+
 /// Traced photon maps: `caustic` and `global` maps of photons with NumPy views.
 #[pyclass(frozen, module = "photon_render")]
 struct PhotonMaps {
@@ -587,6 +657,9 @@ fn _photon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(progressive, m)?)?;
     m.add_function(wrap_pyfunction!(resume, m)?)?;
+    m.add_function(wrap_pyfunction!(job_create, m)?)?;
+    m.add_function(wrap_pyfunction!(job_run, m)?)?;
+    m.add_function(wrap_pyfunction!(job_merge, m)?)?;
     m.add_function(wrap_pyfunction!(trace_photons, m)?)?;
     m.add_function(wrap_pyfunction!(load_photons, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -376,3 +376,40 @@ def test_a_setting_the_integrator_does_not_take_is_refused_by_name():
         photon_render.render(scene, integrator="path", photons=1000, width=4, height=4)
     with pytest.raises(photon_render.PhotonError, match="not a render setting"):
         photon_render.render(scene, integrator="path", spp=1, bogus=1)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        dict(integrator="path", spp=6),
+        dict(integrator="ppm", passes=5, photons_per_pass=5000),
+    ],
+)
+def test_a_job_made_run_and_merged_from_python_is_the_whole_render(scene_file, tmp_path, options):
+    job = tmp_path / "job"
+    tasks = photon_render.job_create(job, scene_file, tasks=3, **options)
+    assert tasks == 3
+    assert sorted((job / "scene").iterdir())
+    # A part of some tasks merges to what they hold.
+    assert photon_render.job_run(job, 2, threads=1) == "rendered"
+    _, info = photon_render.job_merge(job)
+    assert info["done"] == 1 and info["missing"] == [0, 1]
+    for task in (1, 0):
+        assert photon_render.job_run(job, task) == "rendered"
+    assert photon_render.job_run(job, 0) == "already done"
+    image, info = photon_render.job_merge(job)
+    assert info["done"] == info["tasks"] == 3 and info["missing"] == []
+    assert info["units"] == info["total"]
+    scene = photon_render.load_scene(scene_file)
+    if options["integrator"] == "ppm":
+        whole = list(photon_render.progressive(scene, **options))[-1]
+    else:
+        whole, _ = photon_render.render(scene, **options)
+    assert np.array_equal(image, whole)
+
+
+def test_a_job_refuses_what_cannot_be_split(scene_file, tmp_path):
+    with pytest.raises(photon_render.PhotonError, match="sppm cannot be split"):
+        photon_render.job_create(tmp_path / "a", scene_file, tasks=2, integrator="sppm", passes=4)
+    with pytest.raises(photon_render.PhotonError, match="time=5"):
+        photon_render.job_create(tmp_path / "b", scene_file, tasks=2, integrator="ppm", time=5)

@@ -2,9 +2,8 @@
 //! job arrays, GNU parallel or Kubernetes Indexed Jobs, merged bit for bit (see
 //! `photon::job`).
 
-use super::render::{plan_job, render_task};
+use super::render::job_request;
 use anyhow::{Context, Result, bail};
-use photon::job::lock::{Acquired, TaskLock};
 use photon::job::{self, Manifest, TaskState};
 use std::path::{Path, PathBuf};
 
@@ -132,50 +131,14 @@ pub fn run(command: JobCommand) -> Result<()> {
 }
 
 fn create(a: &CreateArgs) -> Result<()> {
+    let (scene, settings, environment) = job_request(&a.render)?;
+    let plan = job::plan(&scene, settings, environment)?;
+    for w in &plan.warnings {
+        eprintln!("warning: {w}");
+    }
+    let manifest = job::create(&a.output, &plan, a.tasks)?;
     let job_dir = &a.output;
-    if job_dir.join(job::MANIFEST).exists()
-        || std::fs::read_dir(job_dir).is_ok_and(|mut d| d.next().is_some())
-    {
-        bail!(
-            "'{}' exists and is not empty; a job is written to a new folder",
-            job_dir.display()
-        );
-    }
-    let plan = plan_job(&a.render)?;
-    let tasks = job::split(plan.total, a.tasks)?;
-    std::fs::create_dir_all(job_dir.join(job::PARTS_DIR))
-        .with_context(|| format!("cannot create '{}'", job_dir.display()))?;
-    let scene_arg = &a.render[0];
-    let builtin = photon::description::builtin::BUILTINS
-        .iter()
-        .any(|b| b.name == scene_arg);
-    let (files, scene) = if builtin {
-        (Vec::new(), scene_arg.clone())
-    } else {
-        job::copy_scene_files(job_dir, Path::new(scene_arg), &plan.files)?
-    };
-    let manifest = Manifest {
-        photon_version: env!("CARGO_PKG_VERSION").into(),
-        scene,
-        scene_hash: format!("{:016x}", plan.scene.content_hash()),
-        settings: plan.settings,
-        environment: plan.environment,
-        unit: plan.unit,
-        total: plan.total,
-        tasks,
-        files,
-    };
-    // The copy must be the same scene: a file named by an absolute path, or read from
-    // outside what was copied, would not be.
-    if !builtin {
-        let (copy, _, _) = super::scene(&job_dir.join(&manifest.scene).to_string_lossy())?;
-        if copy.content_hash() != plan.scene.content_hash() {
-            bail!(
-                "the copied scene differs from '{scene_arg}': does it name files by absolute path? Use paths relative to the scene file"
-            );
-        }
-    }
-    manifest.save(job_dir)?;
+    let sizes = manifest.tasks.iter().map(|t| t[1] - t[0]);
     let bytes: u64 = manifest.files.iter().map(|f| f.bytes).sum();
     eprintln!(
         "photon: job {}: {} {} {} in {} tasks of {}–{}; {} files ({:.1} MB) copied",
@@ -184,18 +147,8 @@ fn create(a: &CreateArgs) -> Result<()> {
         manifest.total,
         unit_name(manifest.unit),
         manifest.tasks.len(),
-        manifest
-            .tasks
-            .iter()
-            .map(|t| t[1] - t[0])
-            .min()
-            .unwrap_or(0),
-        manifest
-            .tasks
-            .iter()
-            .map(|t| t[1] - t[0])
-            .max()
-            .unwrap_or(0),
+        sizes.clone().min().unwrap_or(0),
+        sizes.max().unwrap_or(0),
         manifest.files.len(),
         bytes as f64 / 1e6
     );
@@ -238,113 +191,53 @@ fn task_from_environment() -> Result<usize> {
 }
 
 /// Whether an error may pass if the task is run again: a write failed.
-fn is_worth_a_retry(e: &anyhow::Error) -> bool {
-    e.chain().any(|c| {
-        matches!(
-            c.downcast_ref::<photon::Error>(),
-            Some(photon::Error::Write { .. })
-        )
-    })
-}
-
-/// Leave `message` in the task's `I.failed` for `job status`.
-fn record_failure(failed: &Path, message: &str) {
-    let _ = photon::io::atomic::write_file(failed, message);
+fn is_worth_a_retry(e: &photon::Error) -> bool {
+    matches!(e, photon::Error::Write { .. })
 }
 
 fn run_task(a: &RunArgs) -> Result<()> {
-    let manifest = Manifest::load(&a.job)?;
     let task = match a.task {
         Some(t) => t,
         None => task_from_environment()?,
     };
-    let Some(&[start, end]) = manifest.tasks.get(task) else {
-        bail!(
-            "task {task}: the job has tasks 0 to {}",
-            manifest.tasks.len() - 1
-        );
-    };
-    // A copy of the job (rsync, git) may have dropped the empty parts/ folder.
-    let parts = a.job.join(job::PARTS_DIR);
-    if !parts.is_dir() {
-        std::fs::create_dir(&parts)
-            .with_context(|| format!("cannot create '{}'", parts.display()))?;
-    }
-    let failed = job::failure_path(&a.job, task);
-    if manifest.photon_version != env!("CARGO_PKG_VERSION") {
-        let message = format!(
-            "the job was made by Photon {}; this is {}: run the same version on every machine",
-            manifest.photon_version,
-            env!("CARGO_PKG_VERSION")
-        );
-        record_failure(&failed, &format!("{message}\n"));
-        bail!(message);
-    }
-    if job::part_is_complete(&a.job, &manifest, task) {
-        eprintln!("photon: task {task} is already done");
-        return Ok(());
-    }
-    let lock = match TaskLock::acquire(&a.job, task)? {
-        Acquired::Held(lock) => lock,
-        Acquired::Busy(holder) => {
+    let pool = super::thread_pool(a.threads)?;
+    // Ctrl-C or SIGTERM abandons the task (a rerun redoes it).
+    let signals = super::progressive::interrupts();
+    match pool.install(|| job::run_task(&a.job, task, &signals.stop)) {
+        Ok(job::TaskOutcome::Rendered { seconds }) => {
+            let manifest = Manifest::load(&a.job)?;
+            let [start, end] = manifest.tasks[task];
+            eprintln!(
+                "photon: task {task} ({} {start}..{end}) done in {seconds:.2} s",
+                unit_name(manifest.unit),
+            );
+        }
+        Ok(job::TaskOutcome::AlreadyDone) => eprintln!("photon: task {task} is already done"),
+        Ok(job::TaskOutcome::DoneByAnother) => {
+            eprintln!("photon: task {task} was done meanwhile by another worker; its part is kept")
+        }
+        Ok(job::TaskOutcome::Busy { holder, lock }) => {
             eprintln!(
                 "error: task {task} is being rendered by {holder} (it holds {}); run it again later",
-                job::lock::lock_path(&a.job, task).display()
+                lock.display()
             );
             std::process::exit(EXIT_RETRY);
         }
-    };
-    if job::part_is_complete(&a.job, &manifest, task) {
-        eprintln!("photon: task {task} is already done");
-        return Ok(());
-    }
-    let _ = std::fs::remove_file(&failed);
-    let outcome = render_one(a, &manifest, task, (start, end), &lock);
-    drop(lock);
-    if let Err(e) = &outcome {
-        record_failure(&failed, &format!("{e:#}\n"));
-        if is_worth_a_retry(e) {
-            eprintln!("error: task {task}: {e:#}");
+        Err(photon::Error::Cancelled) => {
+            eprintln!("photon: task {task} interrupted; run it again to redo it");
+            std::process::exit(130);
+        }
+        Err(e) if is_worth_a_retry(&e) => {
+            eprintln!("error: task {task}: {e}");
             std::process::exit(EXIT_RETRY);
         }
+        Err(e) => {
+            return Err(anyhow::Error::new(e).context(format!(
+                "task {task} of '{}'",
+                a.job.join(job::MANIFEST).display()
+            )));
+        }
     }
-    outcome.with_context(|| format!("task {task}"))
-}
-
-/// Render task `task` into this worker's own file, then label it and move it to `I.part`.
-fn render_one(
-    a: &RunArgs,
-    manifest: &Manifest,
-    task: usize,
-    range: (u64, u64),
-    lock: &TaskLock,
-) -> Result<()> {
-    manifest.verify_files(&a.job)?;
-    let scene = if photon::description::builtin::BUILTINS
-        .iter()
-        .any(|b| b.name == manifest.scene)
-    {
-        manifest.scene.clone()
-    } else {
-        a.job.join(&manifest.scene).to_string_lossy().into_owned()
-    };
-    let start = std::time::Instant::now();
-    let rendered = job::lock::worker_part_path(&a.job, task, lock.holder());
-    let outcome = render_task(manifest, scene, range, rendered.clone(), a.threads)
-        .with_context(|| format!("the settings of '{}'", a.job.join(job::MANIFEST).display()))
-        .and_then(|()| Ok(job::promote_part(&a.job, manifest, task, &rendered)?));
-    let _ = std::fs::remove_file(&rendered);
-    if !outcome? {
-        eprintln!("photon: task {task} was done meanwhile by another worker; its part is kept");
-        return Ok(());
-    }
-    eprintln!(
-        "photon: task {task} ({} {}..{}) done in {:.2} s",
-        unit_name(manifest.unit),
-        range.0,
-        range.1,
-        start.elapsed().as_secs_f64()
-    );
     Ok(())
 }
 
@@ -445,48 +338,26 @@ fn rerun_list(tasks: &[usize]) -> String {
 fn merge(a: &MergeArgs) -> Result<()> {
     photon::io::image::check_writable(&a.output)?;
     let manifest = Manifest::load(&a.job)?;
-    let job_id = manifest.job_id();
-    let mut merger = job::Merger::default();
-    let mut missing = Vec::new();
-    let mut foreign = Vec::new();
     let start = std::time::Instant::now();
-    for i in 0..manifest.tasks.len() {
-        // Each part is read once: a missing, damaged, short or foreign part is a missing task.
-        if !job::part_path(&a.job, i).is_file() {
-            missing.push(i);
-            continue;
-        }
-        match job::load_job_part(&a.job, &manifest, &job_id, i) {
-            Ok(part) => merger
-                .add(part)
-                .with_context(|| format!("merging task {i}"))?,
-            Err(e) => {
-                foreign.push(format!("{e}"));
-                missing.push(i);
-            }
-        }
-    }
-    for e in foreign.iter().take(LISTED) {
+    let merged = job::merge(&a.job)?;
+    for e in merged.problems.iter().take(LISTED) {
         eprintln!("photon: {e}");
     }
-    let image = merger
-        .image()
-        .with_context(|| format!("no task of '{}' is done yet", a.job.display()))?;
-    photon::io::image::write_image(&image, &a.output, a.exposure)?;
-    let done = manifest.tasks.len() - missing.len();
+    photon::io::image::write_image(&merged.image, &a.output, a.exposure)?;
     eprintln!(
-        "photon: merged {done} of {} tasks in {:.2} s: the image holds {} of {} {} → {}",
+        "photon: merged {} of {} tasks in {:.2} s: the image holds {} of {} {} → {}",
+        merged.done,
         manifest.tasks.len(),
         start.elapsed().as_secs_f64(),
-        merger.units(),
+        merged.units,
         manifest.total,
         unit_name(manifest.unit),
         a.output.display()
     );
-    if !missing.is_empty() {
+    if !merged.missing.is_empty() {
         eprintln!(
             "photon: missing tasks: {} (see photon job status {})",
-            rerun_list(&missing),
+            rerun_list(&merged.missing),
             sh_quote_path(&a.job)
         );
         if a.require_all {

@@ -31,6 +31,7 @@ mod validate;
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use photon::description::builtin::BUILTINS;
+use photon::io::checkpoint::EnvSettings;
 use photon::scene::Scene;
 use photon::settings::RenderOptions;
 pub use setting_flags::describe as describe_setting_error;
@@ -171,83 +172,14 @@ pub struct EnvironmentArgs {
 }
 
 impl EnvironmentArgs {
-    fn apply(&self, desc: &mut photon::description::SceneDesc) -> photon::Result<()> {
-        use photon::description::{EnvironmentSpec, Sky};
-        let bad = |m: String| photon::Error::InvalidScene(m);
-        if let Some(i) = self.env_intensity
-            && !(i >= 0.0 && i.is_finite())
-        {
-            return Err(bad(format!(
-                "--env-intensity {i}: must be a finite number ≥ 0"
-            )));
+    /// The flags as the library's environment settings.
+    pub fn settings(&self) -> EnvSettings {
+        EnvSettings {
+            sky: self.env.clone(),
+            rotate_deg: self.env_rotate,
+            intensity: self.env_intensity,
         }
-        if let Some(r) = self.env_rotate
-            && !r.is_finite()
-        {
-            return Err(bad(format!(
-                "--env-rotate {r}: must be a finite number of degrees"
-            )));
-        }
-        if let Some(value) = &self.env {
-            let sky = parse_sky(value).map_err(bad)?;
-            desc.set_environment(EnvironmentSpec {
-                sky,
-                intensity: 1.0,
-                rotate_deg: 0.0,
-            });
-        }
-        if self.env_rotate.is_none() && self.env_intensity.is_none() {
-            return Ok(());
-        }
-        let Some(e) = desc.environment_mut() else {
-            return Err(bad(
-                "--env-rotate and --env-intensity change an environment light, and the scene has none: add one with --env".into(),
-            ));
-        };
-        if let Some(r) = self.env_rotate {
-            e.rotate_deg = r;
-        }
-        if let Some(i) = self.env_intensity {
-            e.intensity = i;
-        }
-        if matches!(e.sky, Sky::Uniform(_)) && self.env_rotate.is_some() {
-            eprintln!("warning: --env-rotate has no effect on a uniform sky");
-        }
-        Ok(())
     }
-}
-
-/// `R,G,B` or one number: a uniform sky; anything else: an image file (made absolute, since
-/// the scene's own files are relative to the scene).
-fn parse_sky(value: &str) -> Result<photon::description::Sky, String> {
-    use photon::description::Sky;
-    let numbers: Vec<Result<f32, _>> = value.split(',').map(|p| p.trim().parse::<f32>()).collect();
-    if numbers.iter().all(Result::is_ok) {
-        let n: Vec<f32> = numbers.into_iter().flatten().collect();
-        let rgb = match n[..] {
-            [x] => photon::math::Rgb::splat(x),
-            [r, g, b] => photon::math::Rgb::new(r, g, b),
-            _ => return Err(format!("--env {value}: a colour is R,G,B or one number")),
-        };
-        if !rgb.is_finite() || rgb.min_element() < 0.0 {
-            return Err(format!(
-                "--env {value}: radiance must be finite and not negative"
-            ));
-        }
-        return Ok(Sky::Uniform(rgb));
-    }
-    let path = std::path::Path::new(value);
-    if photon::io::image::EnvironmentFormat::from_path(path).is_none() {
-        return Err(format!(
-            "--env {value}: not a colour R,G,B, nor an image with extension .exr, .hdr or .pfm"
-        ));
-    }
-    if !path.is_file() {
-        return Err(format!("--env {value}: no such file"));
-    }
-    std::path::absolute(path)
-        .map(Sky::File)
-        .map_err(|e| format!("--env {value}: {e}"))
 }
 
 fn print_warnings(warnings: &[String]) {
@@ -269,7 +201,7 @@ pub fn scene_with(
 ) -> Result<(Scene, RenderOptions, f64)> {
     let start = std::time::Instant::now();
     let (scene, loaded) =
-        photon::description::load_scene_edited(name_or_path, |desc| env.apply(desc))?;
+        photon::description::load_scene_with_environment(name_or_path, &env.settings())?;
     print_warnings(&loaded.warnings);
     Ok((scene, loaded.desc.render, start.elapsed().as_secs_f64()))
 }

@@ -32,22 +32,10 @@ pub struct Outputs {
 /// The environment flags as a checkpoint keeps them: a sky file's path made absolute (so a
 /// resume from another folder finds it), a colour as given.
 pub fn env_settings(env: &super::EnvironmentArgs) -> EnvSettings {
-    let sky = env.env.as_ref().map(|v| {
-        let colour = v.split(',').all(|p| p.trim().parse::<f32>().is_ok());
-        if colour {
-            v.clone()
-        } else {
-            std::path::absolute(v).map_or_else(|_| v.clone(), |p| p.to_string_lossy().into_owned())
-        }
-    });
-    EnvSettings {
-        sky,
-        rotate_deg: env.env_rotate,
-        intensity: env.env_intensity,
-    }
+    photon::description::environment::portable(&env.settings())
 }
 
-pub fn env_args(env: &EnvSettings) -> super::EnvironmentArgs {
+fn env_args(env: &EnvSettings) -> super::EnvironmentArgs {
     super::EnvironmentArgs {
         env: env.sky.clone(),
         env_rotate: env.rotate_deg,
@@ -71,15 +59,15 @@ fn snapshot_path(output: &Path, pass: u64) -> PathBuf {
 }
 
 /// What Ctrl-C and `kill` (SIGINT, SIGTERM) asked for.
-struct Interrupts {
+pub struct Interrupts {
     /// The first: finish the pass in flight, then save and stop.
-    stop: Arc<AtomicBool>,
+    pub stop: Arc<AtomicBool>,
     /// Any later one: abandon the pass in flight, then save the completed passes and stop.
     /// (`timeout` and a terminal signal the process group too, so two often arrive at once.)
-    abandon: Arc<AtomicBool>,
+    pub abandon: Arc<AtomicBool>,
 }
 
-fn interrupts() -> Interrupts {
+pub fn interrupts() -> Interrupts {
     let flags = Interrupts {
         stop: Arc::new(AtomicBool::new(false)),
         abandon: Arc::new(AtomicBool::new(false)),

@@ -6,7 +6,6 @@ use clap::ValueEnum;
 use photon::description::builtin::DEFAULT_SCENE;
 use photon::io::image::{ImageFormat, aov_path, check_writable, write_exr_layers, write_image};
 use photon::io::phm;
-use photon::io::sample_part::PartOrigin as SampleOrigin;
 use photon::render::RenderOutput;
 use photon::scene::Scene;
 use std::path::{Path, PathBuf};
@@ -15,7 +14,6 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::setting_flags::SettingFlags;
-use photon::io::checkpoint::EnvSettings;
 use photon::render_job::{Phase, Progress, RenderJob};
 use photon::settings::{IntegratorKind, RenderOptions};
 /// Largest `--exposure` magnitude in stops (2^±100 still fits an f32).
@@ -226,15 +224,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         .context("a sample render has an output")?;
     match format {
         Some(format) => write_outputs(&a, &output, format, out)?,
-        None => {
-            let origin = SampleOrigin {
-                scene: scene.name.clone(),
-                scene_hash: format!("{:016x}", scene.content_hash()),
-                settings: job.sample_identity(),
-                first_sample: job.options().sample_range.map_or(0, |r| r.start as u32),
-            };
-            photon::io::sample_part::save(&out.sums, &origin, &output)?;
-        }
+        None => job.write_part(&result, &output)?,
     }
     let t = result.timings;
     let secs = t.render;
@@ -463,43 +453,18 @@ struct RenderCommand {
     args: RenderArgs,
 }
 
-/// How a render splits into the tasks of a job.
-pub struct JobPlan {
-    pub integrator: IntegratorKind,
-    pub unit: photon::job::Unit,
-    pub total: u64,
-    pub scene: Scene,
-    /// Every file the scene read, absolute.
-    pub files: Vec<PathBuf>,
-    /// The settings given (the job's tasks set their ranges).
-    pub settings: RenderOptions,
-    pub environment: EnvSettings,
-}
-
-/// Refuse the flags a job sets itself or cannot carry.
+/// Refuse the flags a job sets itself or cannot carry (the settings a job cannot take are
+/// refused by the library's `job::plan`).
 fn refuse_per_run_flags(a: &RenderArgs) -> Result<()> {
-    let o = &a.settings.0;
     let per_run = [
         (
             a.output.is_some(),
             "-o (the job folder holds the parts; `photon job merge` writes the image)",
         ),
-        (
-            o.pass_range.is_some(),
-            "--pass-range (the job sets each task's)",
-        ),
-        (
-            o.sample_range.is_some(),
-            "--sample-range (the job sets each task's)",
-        ),
         (a.checkpoint.is_some(), "--checkpoint"),
         (a.keep_checkpoint, "--keep-checkpoint"),
         (a.resume.is_some(), "--resume"),
         (a.snapshots, "--snapshots"),
-        (
-            o.time.is_some(),
-            "--time (a time budget is not the same work on every machine; give --passes or --spp)",
-        ),
         (
             !a.aov.is_empty(),
             "--aov (parts hold the beauty image only)",
@@ -513,86 +478,19 @@ fn refuse_per_run_flags(a: &RenderArgs) -> Result<()> {
     if let Some((_, flag)) = per_run.iter().find(|(given, _)| *given) {
         bail!("a job cannot take {flag}");
     }
-    if let Some(env) = &a.env.env
-        && std::path::Path::new(env).exists()
-    {
-        bail!(
-            "a job cannot take --env FILE: put the sky in the scene file ([[lights]] type = \"environment\") so that the job carries it"
-        );
-    }
     Ok(())
 }
 
-/// Check that the render `SCENE [FLAGS...]` describes can be split into tasks, load its
-/// scene (recording the files it reads) and say what the tasks count.
-pub fn plan_job(scene_and_flags: &[String]) -> Result<JobPlan> {
+/// The scene, settings and environment of `SCENE [FLAGS...]`, as `photon job create` takes
+/// them.
+pub fn job_request(
+    scene_and_flags: &[String],
+) -> Result<(String, RenderOptions, photon::io::checkpoint::EnvSettings)> {
     use clap::Parser;
     let a = RenderCommand::try_parse_from(scene_and_flags)
         .map(|c| c.args)
         .map_err(|e| anyhow::anyhow!("{}", e.render().to_string().trim_end()))?;
     refuse_per_run_flags(&a)?;
-    let (loaded, files) = photon::io::input::recording(|| super::scene_with(&a.scene, &a.env));
-    let (scene, spec, _) = loaded?;
     let options = a.options();
-    let kind = options
-        .integrator
-        .or(spec.integrator)
-        .unwrap_or(photon::settings::defaults::INTEGRATOR);
-    if kind == IntegratorKind::Ppm && options.passes.or(spec.passes).is_none() {
-        bail!("give --passes: a ppm job splits its passes into tasks");
-    }
-    // The whole render must be valid before it is split.
-    let job = RenderJob::new(&scene, &spec, options)?;
-    let (unit, total) = match job.integrator() {
-        IntegratorKind::Sppm => bail!(
-            "sppm cannot be split into tasks: each pass shrinks the radii the last one left, so passes depend on each other; use --integrator ppm, whose passes are independent"
-        ),
-        IntegratorKind::Ppm => (
-            photon::job::Unit::Passes,
-            job.options().passes.context("a ppm job needs --passes")?,
-        ),
-        _ => (photon::job::Unit::Samples, u64::from(job.settings().spp)),
-    };
-    Ok(JobPlan {
-        integrator: job.integrator(),
-        unit,
-        total,
-        settings: a.options(),
-        environment: progressive::env_settings(&a.env),
-        scene,
-        files,
-    })
-}
-
-/// Render one task of a job: the job's scene and settings, restricted to `range` of its
-/// passes or samples, into the part file `output`.
-pub fn render_task(
-    manifest: &photon::job::Manifest,
-    scene: String,
-    range: (u64, u64),
-    output: PathBuf,
-    threads: Option<usize>,
-) -> Result<()> {
-    let mut settings = manifest.settings.clone();
-    let span = Some(photon::settings::Span::from(range));
-    match manifest.unit {
-        photon::job::Unit::Passes => settings.pass_range = span,
-        photon::job::Unit::Samples => settings.sample_range = span,
-    }
-    run(RenderArgs {
-        scene,
-        output: Some(output),
-        exposure: 0.0,
-        aov: Vec::new(),
-        threads,
-        quiet: true,
-        env: progressive::env_args(&manifest.environment),
-        settings: SettingFlags(settings),
-        photon_map: None,
-        force: false,
-        snapshots: false,
-        checkpoint: None,
-        keep_checkpoint: false,
-        resume: None,
-    })
+    Ok((a.scene, options, a.env.settings()))
 }

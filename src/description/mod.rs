@@ -9,6 +9,7 @@
 
 pub mod build;
 pub mod builtin;
+pub mod environment;
 pub mod gltf;
 pub mod mesh;
 pub mod source;
@@ -409,6 +410,21 @@ pub fn load(name_or_path: &str) -> Result<Loaded> {
 /// and photon-map files record to find it again.
 pub fn load_scene(name_or_path: &str) -> Result<(Scene, Loaded)> {
     load_scene_edited(name_or_path, |_| Ok(()))
+}
+
+/// [`load_scene`] with the environment light `env` gives or changes (see [`environment`]);
+/// its warning, if any, is among the loaded warnings.
+pub fn load_scene_with_environment(
+    name_or_path: &str,
+    env: &crate::io::checkpoint::EnvSettings,
+) -> Result<(Scene, Loaded)> {
+    let mut warning = None;
+    let (scene, mut loaded) = load_scene_edited(name_or_path, |desc| {
+        warning = environment::apply(desc, env)?;
+        Ok(())
+    })?;
+    loaded.warnings.extend(warning);
+    Ok((scene, loaded))
 }
 
 /// [`load_scene`], with the description changed by `edit` before it is built (the CLI's

@@ -10,8 +10,10 @@
 pub mod lock;
 mod merge;
 pub mod part_file;
+mod work;
 
 pub use merge::{Merger, Part, decode_part, load_part};
+pub use work::{JobPlan, Merged, TaskOutcome, create, merge, plan, run_task};
 
 use crate::error::{Error, Result};
 use crate::hash::fnv1a;
