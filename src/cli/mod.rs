@@ -161,13 +161,28 @@ fn scenes(a: &ScenesArgs) -> Result<()> {
 pub struct EnvironmentArgs {
     /// Light the scene with a sky: an equirectangular image (.exr, .hdr, .pfm) or a uniform
     /// radiance R,G,B (or one number); replaces the scene's own environment light.
-    #[arg(long, value_name = "FILE|R,G,B", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "FILE|R,G,B",
+        allow_hyphen_values = true,
+        help_heading = "Scene and output"
+    )]
     pub env: Option<String>,
     /// Turn the sky about +y by this many degrees (the scene's own sky without --env).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_hyphen_values = true,
+        help_heading = "Scene and output"
+    )]
     pub env_rotate: Option<f32>,
     /// Multiply the sky's radiance (the scene's own sky without --env).
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "S",
+        allow_hyphen_values = true,
+        help_heading = "Scene and output"
+    )]
     pub env_intensity: Option<f32>,
 }
 
