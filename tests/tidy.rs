@@ -320,12 +320,12 @@ fn layer_violations(root: &Path) -> Vec<String> {
     violations
 }
 
-/// Inside `description`: `builtin` > `build` > `gltf` > `mesh`, `toml_read`, `toml_write` >
-/// `source` (all may use the root's types).
+/// Inside `description`: `builtin` > `build` > `gltf` > `mesh`, `toml_read`, `toml_write`,
+/// `environment` > `source` (all may use the root's types).
 fn description_violations(rel: &Path, code: &str) -> Vec<String> {
     let order = |m: &str| match m {
         "source" => Some(0),
-        "mesh" | "toml_read" | "toml_write" => Some(1),
+        "mesh" | "toml_read" | "toml_write" | "environment" => Some(1),
         "gltf" => Some(2),
         "build" => Some(3),
         "builtin" => Some(4),

@@ -372,6 +372,13 @@ fn progressive(
         options.integrator = Some(photon::settings::IntegratorKind::Sppm);
     }
     if let Some(path) = &checkpoint {
+        // Another run's checkpoint is its passes: never replaced by a new run.
+        if path.exists() {
+            return Err(PhotonError::new_err(format!(
+                "'{}' exists: continue it with photon_render.resume(scene, '{0}'), or remove it",
+                path.display()
+            )));
+        }
         photon::io::atomic::check_writable_path(path).map_err(to_py)?;
     }
     let (inner, spec) = (scene.inner.clone(), scene.spec.clone());

@@ -357,7 +357,7 @@ def test_a_checkpointed_run_killed_and_resumed_is_bit_identical(scene_file, tmp_
     assert checkpoint.exists()
 
 
-def test_resume_refuses_another_scene(scene_file, tmp_path):
+def test_a_checkpoint_is_never_replaced_and_resume_refuses_another_scene(scene_file, tmp_path):
     scene = photon_render.load_scene(scene_file)
     checkpoint = tmp_path / "kept.checkpoint"
     run = photon_render.progressive(
@@ -366,6 +366,10 @@ def test_resume_refuses_another_scene(scene_file, tmp_path):
     )
     list(run)
     assert checkpoint.exists()
+    before = checkpoint.read_bytes()
+    with pytest.raises(photon_render.PhotonError, match="exists: continue it"):
+        photon_render.progressive(scene, checkpoint=checkpoint, passes=1, width=4, height=4)
+    assert checkpoint.read_bytes() == before
     with pytest.raises(photon_render.PhotonError, match="another scene"):
         photon_render.resume(photon_render.load_scene("cornell"), checkpoint, passes=2)
 
