@@ -128,17 +128,6 @@ impl<'s> RenderJob<'s> {
                 problem: problem.into(),
             }))
         };
-        if integrator.is_progressive()
-            && options.passes.is_none()
-            && options.time.is_none()
-            && options.pass_range.is_none()
-        {
-            return needs(
-                "passes",
-                None,
-                "a progressive render needs a number of passes or a time",
-            );
-        }
         if options.gather_rays == Some(0) && options.gather != Some(GatherMode::None) {
             return needs(
                 "gather_rays",
@@ -157,6 +146,7 @@ impl<'s> RenderJob<'s> {
             maps: None,
         };
         if integrator.is_progressive() {
+            job.budget().check()?;
             job.progressive_config().validate()?;
         } else {
             let spp = job.settings().spp;

@@ -28,6 +28,45 @@ pub struct Budget {
     pub seconds: Option<f64>,
 }
 
+impl Budget {
+    /// A budget a run can keep: passes, a time or both; at least one pass; a positive,
+    /// finite time.
+    pub fn check(&self) -> Result<()> {
+        let refuse = |name, value: Option<String>, problem: &str| {
+            Err(Error::Setting(SettingError {
+                name,
+                value,
+                problem: problem.into(),
+            }))
+        };
+        match (self.passes, self.seconds) {
+            (None, None) => {
+                return refuse(
+                    "passes",
+                    None,
+                    "a progressive render needs a number of passes or a time",
+                );
+            }
+            (Some(0), _) => {
+                return refuse(
+                    "passes",
+                    Some("0".into()),
+                    "a render needs at least one pass",
+                );
+            }
+            (_, Some(s)) if !(s > 0.0 && s.is_finite()) => {
+                return refuse(
+                    "time",
+                    Some(s.to_string()),
+                    "must be a positive number of seconds",
+                );
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
 /// Where and how often a run saves its state.
 #[derive(Clone, Debug)]
 pub struct CheckpointPlan {
@@ -72,37 +111,7 @@ pub struct Session {
 impl Session {
     /// A run of `state` (fresh, or loaded from a checkpoint) under `budget`.
     pub fn new(state: ProgressiveState, budget: Budget) -> Result<Self> {
-        let refuse = |name, value: Option<String>, problem: &str| {
-            Err(Error::Setting(SettingError {
-                name,
-                value,
-                problem: problem.into(),
-            }))
-        };
-        match (budget.passes, budget.seconds) {
-            (None, None) => {
-                return refuse(
-                    "passes",
-                    None,
-                    "a progressive render needs a number of passes or a time",
-                );
-            }
-            (Some(0), _) => {
-                return refuse(
-                    "passes",
-                    Some("0".into()),
-                    "a render needs at least one pass",
-                );
-            }
-            (_, Some(s)) if !(s > 0.0 && s.is_finite()) => {
-                return refuse(
-                    "time",
-                    Some(s.to_string()),
-                    "must be a positive number of seconds",
-                );
-            }
-            _ => {}
-        }
+        budget.check()?;
         Ok(Self {
             first: state.next_pass(),
             state,
@@ -148,11 +157,23 @@ impl Session {
         }
         let plan = CheckpointPlan {
             path: path.to_owned(),
-            info: info.clone(),
+            // The run's output, exposure and environment stay; its target is this run's.
+            info: RunInfo {
+                target_passes: budget.passes,
+                ..info.clone()
+            },
             every: CHECKPOINT_EVERY,
             keep: true,
         };
         Ok((Self::new(state, budget)?.with_checkpoints(plan), info))
+    }
+
+    /// Checkpoint at least every `every` (after the first pass, and on interrupts, as always).
+    pub fn with_checkpoint_every(mut self, every: Duration) -> Self {
+        if let Some(plan) = &mut self.checkpoint {
+            plan.every = every;
+        }
+        self
     }
 
     pub fn state(&self) -> &ProgressiveState {

@@ -98,6 +98,20 @@ fn out_of_range_flags_are_refused() {
         (vec!["--threads", "10000"], "--threads"),
         (vec!["--exposure", "nan"], "--exposure"),
         (vec!["--exposure", "1e30"], "--exposure"),
+        // A seed TOML cannot write (scene files, job manifests), and counts that would never end.
+        (
+            vec!["--seed", "18446744073709551615"],
+            "--seed 18446744073709551615: must be at most 9223372036854775807",
+        ),
+        (
+            vec!["--integrator", "path", "--max-depth", "100000"],
+            "--max-depth 100000: must be at most 65536",
+        ),
+        (vec!["--light-samples", "70000"], "--light-samples 70000"),
+        (
+            vec!["--resume", "x.checkpoint", "--spp", "4"],
+            "--resume goes on with the checkpoint's own settings",
+        ),
         (vec!["--indirect-scale", "3.4e38"], "--indirect-scale"),
         // Flags the integrator does not read were accepted and ignored.
         (

@@ -413,3 +413,22 @@ fn command_line_settings_override_the_scene_and_the_scene_overrides_defaults() {
     assert_eq!((desc.render.spp, desc.render.seed), (Some(3), Some(9)));
     assert_eq!((desc.camera.width, desc.camera.height), (40, 30));
 }
+
+/// A scene file renders whole: the ranges that split a render are chosen per run, and a
+/// scene's counts are bounded like the command line's.
+#[test]
+fn a_scene_cannot_choose_a_part_of_its_render_or_an_endless_one() {
+    let head = "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n[render]\n";
+    for (render, needle) in [
+        ("sample_range = [0, 2]\n", "chosen per run"),
+        ("pass_range = [0, 2]\n", "chosen per run"),
+        ("max_depth = 100000\n", "must be at most 65536"),
+        ("gather_rays = 100000\n", "must be at most 65536"),
+    ] {
+        let text = format!("{head}{render}");
+        let e = read_str(&text, Path::new("test.toml"), &repo().join("scenes"))
+            .expect_err(render)
+            .to_string();
+        assert!(e.contains("test.toml:5:") && e.contains(needle), "{e}");
+    }
+}

@@ -331,27 +331,13 @@ impl Progressive {
     }
 }
 
-/// The `checkpoint` keyword: a path, or `None` for no checkpoint.
-fn checkpoint_plan(
-    path: Option<PathBuf>,
-    every: f64,
-    keep: bool,
-    target: Option<u64>,
-) -> PyResult<Option<CheckpointPlan>> {
-    if !(every >= 0.0 && every.is_finite()) {
-        return Err(PhotonError::new_err(format!(
-            "checkpoint_every={every}: must be a number of seconds ≥ 0"
-        )));
-    }
-    Ok(path.map(|path| CheckpointPlan {
-        info: RunInfo {
-            target_passes: target,
-            ..RunInfo::default()
-        },
-        path: std::path::absolute(&path).unwrap_or(path),
-        every: Duration::from_secs_f64(every),
-        keep,
-    }))
+/// The `checkpoint_every` keyword: seconds ≥ 0.
+fn checkpoint_every(seconds: f64) -> PyResult<Duration> {
+    Duration::try_from_secs_f64(seconds).map_err(|_| {
+        PhotonError::new_err(format!(
+            "checkpoint_every={seconds}: must be a number of seconds ≥ 0"
+        ))
+    })
 }
 
 /// `photon_render.progressive(scene, passes=64, integrator="sppm", ...)`: see the module.
@@ -368,7 +354,8 @@ fn progressive(
 ) -> PyResult<Progressive> {
     let threads = threads_arg(threads)?;
     let mut options = options(kwargs)?;
-    if options.integrator.is_none() {
+    // An iterator of passes: sppm unless the keywords or the scene choose ppm.
+    if options.integrator.is_none() && scene.spec.integrator.is_none_or(|k| !k.is_progressive()) {
         options.integrator = Some(photon::settings::IntegratorKind::Sppm);
     }
     if let Some(path) = &checkpoint {
@@ -392,12 +379,16 @@ fn progressive(
         }
         job.session()
     })?;
-    let plan = checkpoint_plan(
-        checkpoint,
-        checkpoint_every,
-        keep_checkpoint,
-        session.budget().passes,
-    )?;
+    let every = checkpoint_every(checkpoint_every)?;
+    let plan = checkpoint.map(|path| CheckpointPlan {
+        info: RunInfo {
+            target_passes: session.budget().passes,
+            ..RunInfo::default()
+        },
+        path: std::path::absolute(&path).unwrap_or(path),
+        every,
+        keep: keep_checkpoint,
+    });
     Ok(Progressive {
         scene: scene.inner.clone(),
         session: Some(match plan {
@@ -431,7 +422,8 @@ fn resume(
         passes,
         seconds: time,
     };
-    let (session, info) = py
+    let every = checkpoint_every(checkpoint_every)?;
+    let (session, _) = py
         .detach(|| Session::resume(&checkpoint, budget))
         .map_err(to_py)?;
     if session.state().scene_hash != scene.inner.content_hash() {
@@ -441,11 +433,9 @@ fn resume(
             session.state().scene_name
         )));
     }
-    let plan = checkpoint_plan(Some(checkpoint), checkpoint_every, true, info.target_passes)?
-        .expect("a path was given");
     Ok(Progressive {
         scene: scene.inner.clone(),
-        session: Some(session.with_checkpoints(plan)),
+        session: Some(session.with_checkpoint_every(every)),
         finished: None,
         pool: Arc::new(pool(threads)?),
     })

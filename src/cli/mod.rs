@@ -165,7 +165,7 @@ pub struct EnvironmentArgs {
         long,
         value_name = "FILE|R,G,B",
         allow_hyphen_values = true,
-        help_heading = "Scene and output"
+        help_heading = render::OUTPUT
     )]
     pub env: Option<String>,
     /// Turn the sky about +y by this many degrees (the scene's own sky without --env).
@@ -173,7 +173,7 @@ pub struct EnvironmentArgs {
         long,
         value_name = "DEG",
         allow_hyphen_values = true,
-        help_heading = "Scene and output"
+        help_heading = render::OUTPUT
     )]
     pub env_rotate: Option<f32>,
     /// Multiply the sky's radiance (the scene's own sky without --env).
@@ -181,7 +181,7 @@ pub struct EnvironmentArgs {
         long,
         value_name = "S",
         allow_hyphen_values = true,
-        help_heading = "Scene and output"
+        help_heading = render::OUTPUT
     )]
     pub env_intensity: Option<f32>,
 }

@@ -133,8 +133,15 @@ pub fn run(
         eprintln!("photon: interrupted before the first pass completed; nothing was written");
         std::process::exit(130);
     }
+    // The image (or the part) first: a finished run's checkpoint goes only once it is
+    // written, so no moment loses the passes.
+    if out.partial {
+        checkpoint::save_with(session.state(), &info, &out.image)?;
+    } else {
+        write_image(&session.state().image(), &out.image, out.exposure)?;
+    }
     let state = session.finish(ending)?;
-    finish(scene, &state, &info, out, &totals, secs, ending)
+    report(scene, &state, out, &totals, secs, ending)
 }
 
 fn progress_bar(quiet: bool, target: Option<u64>) -> ProgressBar {
@@ -153,23 +160,16 @@ fn progress_bar(quiet: bool, target: Option<u64>) -> ProgressBar {
     bar
 }
 
-/// Write the image of the completed passes (or the partial render), and report; an
-/// interrupted run then exits with 130.
-fn finish(
+/// Report what the run did; an interrupted run then exits with 130.
+fn report(
     scene: &Scene,
     state: &ProgressiveState,
-    info: &RunInfo,
     out: &Outputs,
     totals: &Totals,
     secs: f64,
     ending: Ending,
 ) -> Result<()> {
     let kept = ending == Ending::Interrupted || out.keep_checkpoint;
-    if out.partial {
-        checkpoint::save_with(state, info, &out.image)?;
-    } else {
-        write_image(&state.image(), &out.image, out.exposure)?;
-    }
     eprintln!(
         "photon: {} {}×{} {} passes {}..{} ({}) in {secs:.2} s: {:.2} M photons/s, {:.2} M rays/s → {}{}",
         scene.name,

@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use super::setting_flags::SettingFlags;
 use photon::render_job::{Phase, Progress, RenderJob};
-use photon::settings::{IntegratorKind, RenderOptions};
+use photon::settings::{Group, IntegratorKind, RenderOptions};
 /// Largest `--exposure` magnitude in stops (2^±100 still fits an f32).
 pub(super) const MAX_EXPOSURE: f32 = 100.0;
 
@@ -40,9 +40,10 @@ impl Aov {
     }
 }
 
-const OUTPUT: &str = "Scene and output";
-const PHOTON_MAPPING: &str = "Photon mapping (photon; radius also sppm and ppm)";
-const PROGRESSIVE: &str = "Progressive (sppm, ppm)";
+/// The `--help` groups the command line's own flags join, the settings' own.
+pub const OUTPUT: &str = Group::SceneAndOutput.heading();
+const PHOTON_MAPPING: &str = Group::PhotonMapping.heading();
+const PROGRESSIVE: &str = Group::Progressive.heading();
 
 /// `photon render`: the flags of the command line itself, and every render setting
 /// (`photon::settings::SETTINGS`) as a flag.
@@ -119,8 +120,30 @@ fn check_flags(a: &RenderArgs) -> Result<()> {
 pub fn run(a: RenderArgs) -> Result<()> {
     check_flags(&a)?;
     if let Some(cp) = &a.resume {
-        let pool = super::thread_pool(a.threads)?;
         let o = a.options();
+        let settings = o
+            .given()
+            .into_iter()
+            .filter(|(s, _)| !["passes", "time"].contains(&s.name))
+            .map(|(s, _)| s.flag());
+        let run_flags = [
+            (a.snapshots, "--snapshots"),
+            (a.checkpoint.is_some(), "--checkpoint"),
+            (a.keep_checkpoint, "--keep-checkpoint"),
+            (!a.aov.is_empty(), "--aov"),
+            (a.photon_map.is_some(), "--photon-map"),
+            (a.force, "--force"),
+        ];
+        let run_flags = run_flags
+            .iter()
+            .filter(|(given, _)| *given)
+            .map(|(_, f)| (*f).to_owned());
+        if let Some(flag) = settings.chain(run_flags).next() {
+            bail!(
+                "--resume goes on with the checkpoint's own settings: it takes --passes, --time, -o, --exposure, --threads, -q and the environment flags, not {flag}"
+            );
+        }
+        let pool = super::thread_pool(a.threads)?;
         let args = progressive::ResumeArgs {
             budget: progressive::Budget {
                 passes: o.passes,

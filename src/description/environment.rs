@@ -67,12 +67,16 @@ pub fn apply(desc: &mut SceneDesc, env: &EnvSettings) -> Result<Option<String>> 
     )
 }
 
+/// Whether `value` is a colour (`R,G,B` or one number) rather than an image file.
+pub fn is_colour(value: &str) -> bool {
+    value.split(',').all(|p| p.trim().parse::<f32>().is_ok())
+}
+
 /// `R,G,B` or one number: a uniform sky; anything else: an image file (made absolute, since
 /// the scene's own files are relative to the scene).
 pub fn parse_sky(value: &str) -> std::result::Result<Sky, String> {
-    let numbers: Vec<Result<f32, _>> = value.split(',').map(|p| p.trim().parse::<f32>()).collect();
-    if numbers.iter().all(std::result::Result::is_ok) {
-        let n: Vec<f32> = numbers.into_iter().flatten().collect();
+    if is_colour(value) {
+        let n: Vec<f32> = value.split(',').flat_map(|p| p.trim().parse()).collect();
         let rgb = match n[..] {
             [x] => Rgb::splat(x),
             [r, g, b] => Rgb::new(r, g, b),
@@ -99,8 +103,7 @@ pub fn parse_sky(value: &str) -> std::result::Result<Sky, String> {
 /// another folder finds it), a colour as given.
 pub fn portable(env: &EnvSettings) -> EnvSettings {
     let sky = env.sky.as_ref().map(|v| {
-        let colour = v.split(',').all(|p| p.trim().parse::<f32>().is_ok());
-        if colour {
+        if is_colour(v) {
             v.clone()
         } else {
             std::path::absolute(v).map_or_else(|_| v.clone(), |p| p.to_string_lossy().into_owned())

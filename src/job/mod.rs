@@ -15,7 +15,7 @@ mod work;
 pub use merge::{Merger, Part, decode_part, load_part};
 pub use work::{JobPlan, Merged, TaskOutcome, create, merge, plan, run_task};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SettingError};
 use crate::hash::fnv1a;
 use crate::io::checkpoint::EnvSettings;
 use crate::settings::RenderOptions;
@@ -118,16 +118,8 @@ impl Manifest {
         self.settings
             .check_values()
             .map_err(|e| format!("settings: {e}"))?;
-        let per_task = [
-            (self.settings.sample_range.is_some(), "sample_range"),
-            (self.settings.pass_range.is_some(), "pass_range"),
-            (self.settings.time.is_some(), "time"),
-        ];
-        if let Some((_, name)) = per_task.iter().find(|(given, _)| *given) {
-            return Err(format!(
-                "settings: a job's tasks cannot take {name} (each worker sets its task's range, and a time is not the same work on every machine)"
-            ));
-        }
+        what_a_job_cannot_carry(&self.settings, &self.environment)
+            .map_err(|e| format!("settings: {e}"))?;
         let mut seen = std::collections::HashSet::new();
         for f in &self.files {
             if !is_scene_file_path(&f.path) {
@@ -257,6 +249,51 @@ impl Manifest {
         }
         Ok(())
     }
+}
+
+/// What a job's settings cannot hold: a sample or pass range (each task sets its own), a
+/// time (not the same work on every machine), or a sky file given beside the scene (it would
+/// not travel with the job, and a manifest naming one would make workers read any file).
+pub fn what_a_job_cannot_carry(
+    settings: &RenderOptions,
+    environment: &EnvSettings,
+) -> std::result::Result<(), SettingError> {
+    let refuse = |name, value: String, problem: &str| {
+        Err(SettingError {
+            name,
+            value: Some(value),
+            problem: problem.into(),
+        })
+    };
+    for (name, range) in [
+        ("sample_range", settings.sample_range),
+        ("pass_range", settings.pass_range),
+    ] {
+        if let Some(r) = range {
+            return refuse(
+                name,
+                format!("{}..{}", r.start, r.end),
+                "a job sets each task's range itself",
+            );
+        }
+    }
+    if let Some(t) = settings.time {
+        return refuse(
+            "time",
+            t.to_string(),
+            "a time budget is not the same work on every machine; a job takes passes or spp",
+        );
+    }
+    if let Some(sky) = &environment.sky
+        && !crate::description::environment::is_colour(sky)
+    {
+        return refuse(
+            "env",
+            sky.clone(),
+            "a job carries a sky only in its scene: put it in the scene file ([[lights]] type = \"environment\")",
+        );
+    }
+    Ok(())
 }
 
 /// `total` units split into `tasks` contiguous ranges whose sizes differ by at most one.
@@ -523,6 +560,32 @@ mod tests {
             first_sample: first,
         };
         crate::io::sample_part::save(&sums, &origin, path).expect("save");
+    }
+
+    /// A manifest is untrusted: one naming a sky file would make every worker read that
+    /// file as an image.
+    #[test]
+    fn a_manifest_naming_a_sky_file_or_a_range_is_refused() {
+        let base = "photon_version = \"0.1.0\"\nscene = \"cornell\"\nscene_hash = \"00000000000000aa\"\nunit = \"samples\"\ntotal = 2\ntasks = [[0, 2]]\nfiles = []\n";
+        let parse = |extra: &str| Manifest::parse(&format!("{base}{extra}"), Path::new("job.toml"));
+        assert!(parse("[settings]\n[environment]\nsky = \"1,1,1\"\n").is_ok());
+        for (extra, needle) in [
+            (
+                "[settings]\n[environment]\nsky = \"/etc/hostname\"\n",
+                "carries a sky only in its scene",
+            ),
+            (
+                "[settings]\nsample_range = [0, 1]\n",
+                "sets each task's range itself",
+            ),
+            (
+                "[settings]\ntime = 5.0\n",
+                "not the same work on every machine",
+            ),
+        ] {
+            let e = parse(extra).expect_err(extra).to_string();
+            assert!(e.contains(needle), "{extra}: {e}");
+        }
     }
 
     #[test]

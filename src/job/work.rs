@@ -44,33 +44,7 @@ fn refuse(name: &'static str, value: Option<String>, problem: &str) -> Error {
 /// Check that `scene` (a built-in's name or a file) with `settings` and `environment`
 /// renders and can be split into tasks, and load it, recording the files it reads.
 pub fn plan(scene: &str, settings: RenderOptions, environment: EnvSettings) -> Result<JobPlan> {
-    let per_run = [
-        (settings.sample_range, "sample_range"),
-        (settings.pass_range, "pass_range"),
-    ];
-    if let Some((Some(Span { start, end }), name)) = per_run.iter().find(|(r, _)| r.is_some()) {
-        return Err(refuse(
-            name,
-            Some(format!("{start}..{end}")),
-            "a job sets each task's range itself",
-        ));
-    }
-    if let Some(t) = settings.time {
-        return Err(refuse(
-            "time",
-            Some(t.to_string()),
-            "a time budget is not the same work on every machine; a job takes passes or spp",
-        ));
-    }
-    if let Some(sky) = &environment.sky
-        && Path::new(sky).exists()
-    {
-        return Err(refuse(
-            "env",
-            Some(sky.clone()),
-            "a job cannot carry a sky file given beside the scene: put the sky in the scene file ([[lights]] type = \"environment\")",
-        ));
-    }
+    super::what_a_job_cannot_carry(&settings, &environment).map_err(Error::Setting)?;
     let environment = environment::portable(&environment);
     let (loaded, files) =
         crate::io::input::recording(|| load_scene_with_environment(scene, &environment));

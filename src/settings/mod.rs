@@ -22,6 +22,8 @@ use serde::{Deserialize, Serialize};
 pub const MAX_K: usize = 1 << 16;
 /// Largest indirect scale (a debugging knob; 1 is correct).
 pub const MAX_INDIRECT_SCALE: f32 = 1e6;
+/// Most passes a progressive render may ask for.
+pub const MAX_PASSES: u64 = 1 << 40;
 /// Largest photon counts a setting may ask for.
 pub const MAX_PHOTON_COUNT: u64 = 1 << 40;
 
@@ -36,7 +38,7 @@ pub enum Group {
 }
 
 impl Group {
-    pub fn heading(self) -> &'static str {
+    pub const fn heading(self) -> &'static str {
         match self {
             Group::SceneAndOutput => "Scene and output",
             Group::Sampling => "Sampling",
@@ -190,8 +192,11 @@ macro_rules! render_settings {
 
             /// Each setting's own range, and whether `kind` takes it.
             pub fn check_each(&self, kind: IntegratorKind) -> Result<(), SettingError> {
-                if let Some((entry, value)) =
-                    self.given().into_iter().find(|(s, _)| !s.takes.includes(kind))
+                // A switch given as off asks for nothing, whichever integrator runs.
+                if let Some((entry, value)) = self
+                    .given()
+                    .into_iter()
+                    .find(|(s, v)| !s.takes.includes(kind) && !(s.is_switch && v == "false"))
                 {
                     return Err(SettingError {
                         name: entry.name,
@@ -301,6 +306,32 @@ fn nonempty_span(v: &Span) -> Result<(), String> {
     }
 }
 
+/// Most bounces, light samples and gather rays a setting may ask for: far beyond use, small
+/// enough that a scene file cannot ask for a render that never ends.
+pub const MAX_COUNT: u32 = 1 << 16;
+
+fn at_most_max_count(v: &u32) -> Result<(), String> {
+    if *v <= MAX_COUNT {
+        Ok(())
+    } else {
+        Err(format!("must be at most {MAX_COUNT}"))
+    }
+}
+
+fn one_to_max_count(v: &u32) -> Result<(), String> {
+    at_least_one(v).and_then(|()| at_most_max_count(v))
+}
+
+/// Seeds are written to TOML files (scene files, job manifests), whose integers are 64-bit
+/// signed.
+fn seed_range(v: &u64) -> Result<(), String> {
+    if i64::try_from(*v).is_ok() {
+        Ok(())
+    } else {
+        Err(format!("must be at most {}", i64::MAX))
+    }
+}
+
 fn anything<T>(_: &T) -> Result<(), String> {
     Ok(())
 }
@@ -338,18 +369,19 @@ render_settings! {
     /// Seed of every random stream; the same seed gives the same image.
     seed: u64 {
         group: Sampling, takes: Takes::ALL,
-        default: DefaultValue::Value(|_| d::SEED.to_string()), note: "", check: anything,
+        default: DefaultValue::Value(|_| d::SEED.to_string()), note: "", check: seed_range,
     }
     /// Maximum number of bounces.
     max_depth: u32 {
         group: Sampling, takes: Takes::ALL,
-        default: DefaultValue::Value(|k| d::max_depth(k).to_string()), note: "", check: anything,
+        default: DefaultValue::Value(|k| d::max_depth(k).to_string()), note: "",
+        check: at_most_max_count,
     }
     /// Samples per area light at each diffuse hit (passes of sppm and ppm average theirs).
     light_samples: u32 {
         group: Sampling, takes: Takes::ALL.except(I::Path),
         default: DefaultValue::Value(|k| d::light_samples(k).to_string()), note: "",
-        check: at_least_one,
+        check: one_to_max_count,
     }
     /// Largest radiance a camera sample may carry: a brighter sample is scaled down to it, keeping its colour (pbrt's maxcomponentvalue). It removes fireflies and biases the image darker.
     max_radiance: f32 {
@@ -395,7 +427,8 @@ render_settings! {
     /// Final-gather rays per camera sample.
     gather_rays: u32 {
         group: PhotonMapping, takes: Takes::PHOTON,
-        default: DefaultValue::Value(|_| d::GATHER_RAYS.to_string()), note: "", check: anything,
+        default: DefaultValue::Value(|_| d::GATHER_RAYS.to_string()), note: "",
+        check: at_most_max_count,
     }
     /// Weight on the indirect part (1 is physically correct; a debugging knob).
     indirect_scale: f32 {
@@ -420,7 +453,11 @@ render_settings! {
     passes: u64 {
         group: Progressive, takes: Takes::PROGRESSIVE,
         default: DefaultValue::Decided("none: give passes, a time or both"), note: "",
-        check: |p| if *p == 0 { Err("a render needs at least one pass".into()) } else { Ok(()) },
+        check: |p| match *p {
+            0 => Err("a render needs at least one pass".into()),
+            p if p > MAX_PASSES => Err(format!("must be at most {MAX_PASSES}")),
+            _ => Ok(()),
+        },
     }
     /// Stop after this many seconds (the image of the passes done by then; at least one pass).
     time: f64 {

@@ -63,9 +63,9 @@ pub(super) fn camera(t: &Table) -> Result<CameraSpec> {
     })
 }
 
-/// The `[render]` table: every key a setting of [`crate::settings::SETTINGS`], read by the
-/// setting's own type and checked by its own range (not by which integrator takes it: a
-/// scene's settings apply where they are taken).
+/// The `[render]` table: every key a setting of [`crate::settings::SETTINGS`] but the ranges
+/// that split a render, read by the setting's own type and checked by its own range (not by
+/// which integrator takes it: a scene's settings apply where they are taken).
 pub(super) fn render(t: &Table) -> Result<RenderOptions> {
     let names: Vec<&str> = settings::SETTINGS.iter().map(|s| s.name).collect();
     t.allow(&names)?;
@@ -73,6 +73,12 @@ pub(super) fn render(t: &Table) -> Result<RenderOptions> {
     for name in names {
         let Some(v) = t.get(name) else { continue };
         let what = t.label(name);
+        if settings::setting(name).group == settings::Group::Splitting {
+            return Err(t.cx.err(
+                v.span(),
+                format!("{what}: a part of a render is chosen per run (on the command line or by a job), not in a scene file"),
+            ));
+        }
         let set = match v.get_ref() {
             DeValue::String(text) => options.set_text(name, text),
             DeValue::Integer(_) => {
