@@ -332,7 +332,7 @@ impl Progressive {
 }
 
 /// The `checkpoint_every` keyword: seconds ≥ 0.
-fn checkpoint_every(seconds: f64) -> PyResult<Duration> {
+fn checkpoint_cadence(seconds: f64) -> PyResult<Duration> {
     Duration::try_from_secs_f64(seconds).map_err(|_| {
         PhotonError::new_err(format!(
             "checkpoint_every={seconds}: must be a number of seconds ≥ 0"
@@ -379,7 +379,7 @@ fn progressive(
         }
         job.session()
     })?;
-    let every = checkpoint_every(checkpoint_every)?;
+    let every = checkpoint_cadence(checkpoint_every)?;
     let plan = checkpoint.map(|path| CheckpointPlan {
         info: RunInfo {
             target_passes: session.budget().passes,
@@ -422,7 +422,7 @@ fn resume(
         passes,
         seconds: time,
     };
-    let every = checkpoint_every(checkpoint_every)?;
+    let every = checkpoint_cadence(checkpoint_every)?;
     let (session, _) = py
         .detach(|| Session::resume(&checkpoint, budget))
         .map_err(to_py)?;
