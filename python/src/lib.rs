@@ -8,13 +8,12 @@
 
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use photon::description::Loaded;
-use photon::settings::RenderOptions as RenderSpec;
 use photon::film::Image;
-use photon::photon::{MapKind, PhotonConfig};
 use photon::io::checkpoint::RunInfo;
+use photon::photon::{MapKind, PhotonConfig};
 use photon::progressive::ProgressiveState;
-use photon::session::{Budget, CheckpointPlan, Ending, Session};
 use photon::render_job::RenderJob;
+use photon::session::{Budget, CheckpointPlan, Ending, Session};
 use photon::settings::RenderOptions;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -177,7 +176,7 @@ fn image_array<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyAny
 #[pyclass(frozen, module = "photon_render")]
 struct Scene {
     inner: Arc<photon::scene::Scene>,
-    spec: RenderSpec,
+    spec: RenderOptions,
     desc: photon::description::SceneDesc,
     warnings: Vec<String>,
 }
