@@ -10,6 +10,7 @@ use crate::error::{Error, Result, SettingError};
 use crate::io::checkpoint::{self, RunInfo};
 use crate::progressive::{PassSeconds, PassStats, ProgressiveState};
 use crate::scene::Scene;
+use crate::settings::MAX_PASSES;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -45,6 +46,13 @@ impl Budget {
                     "passes",
                     None,
                     "a progressive render needs a number of passes or a time",
+                );
+            }
+            (Some(p), _) if p > MAX_PASSES => {
+                return refuse(
+                    "passes",
+                    Some(p.to_string()),
+                    &format!("must be at most {MAX_PASSES}"),
                 );
             }
             (Some(0), _) => {
@@ -156,10 +164,12 @@ impl Session {
             }));
         }
         let plan = CheckpointPlan {
-            path: path.to_owned(),
-            // The run's output, exposure and environment stay; its target is this run's.
+            // Absolute: the process may change folders while it runs.
+            path: std::path::absolute(path).unwrap_or_else(|_| path.to_owned()),
+            // The run's output, exposure and environment stay; its target is this run's, or
+            // the run's own under a time budget.
             info: RunInfo {
-                target_passes: budget.passes,
+                target_passes: budget.passes.or(info.target_passes),
                 ..info.clone()
             },
             every: CHECKPOINT_EVERY,

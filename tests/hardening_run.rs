@@ -234,6 +234,18 @@ fn zero_passes_are_refused_and_a_short_time_runs_one_pass() {
         &dir,
     );
     assert_usage_error(&o, "--passes 0");
+    // The resume path bounds passes as every other front end does.
+    let o = photon(
+        &[
+            "render",
+            "--resume",
+            "t.checkpoint",
+            "--passes",
+            "1099511627777",
+        ],
+        &dir,
+    );
+    assert_usage_error(&o, "--passes 1099511627777: must be at most 1099511627776");
 }
 
 /// The library refuses what the command line refuses (the Python module renders through it).

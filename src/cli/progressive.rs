@@ -27,6 +27,9 @@ pub struct Outputs {
     pub partial: bool,
     /// The environment flags, which the checkpoint keeps for `--resume`.
     pub env: EnvSettings,
+    /// The pass target the checkpoint keeps when the budget has none (a resumed run under a
+    /// time budget keeps its run's).
+    pub target_passes: Option<u64>,
 }
 
 /// The environment flags as a checkpoint keeps them: a sky file's path made absolute (so a
@@ -94,7 +97,7 @@ pub fn run(
 ) -> Result<()> {
     let info = RunInfo {
         output: Some(std::path::absolute(&out.image).unwrap_or_else(|_| out.image.clone())),
-        target_passes: budget.passes,
+        target_passes: budget.passes.or(out.target_passes),
         exposure: Some(out.exposure),
         env: out.env.clone(),
     };
@@ -133,14 +136,24 @@ pub fn run(
         eprintln!("photon: interrupted before the first pass completed; nothing was written");
         std::process::exit(130);
     }
-    // The image (or the part) first: a finished run's checkpoint goes only once it is
-    // written, so no moment loses the passes.
-    if out.partial {
-        checkpoint::save_with(session.state(), &info, &out.image)?;
+    // No moment loses the passes: an interrupted run saves its checkpoint before the image; a
+    // finished one removes its checkpoint only once the image is written.
+    let write = |state: &ProgressiveState| -> Result<()> {
+        if out.partial {
+            checkpoint::save_with(state, &info, &out.image)?;
+        } else {
+            write_image(&state.image(), &out.image, out.exposure)?;
+        }
+        Ok(())
+    };
+    let state = if ending == Ending::Interrupted {
+        let state = session.finish(ending)?;
+        write(&state)?;
+        state
     } else {
-        write_image(&session.state().image(), &out.image, out.exposure)?;
-    }
-    let state = session.finish(ending)?;
+        write(session.state())?;
+        session.finish(ending)?
+    };
     report(scene, &state, out, &totals, secs, ending)
 }
 
@@ -283,6 +296,7 @@ pub fn resume(path: &Path, args: &ResumeArgs, pool: &rayon::ThreadPool) -> Resul
         quiet,
         partial: false,
         env: info.env,
+        target_passes: info.target_passes,
     };
     super::render::refuse_inputs(&out.image, Some(&out.checkpoint), &[], false, &files)?;
     run(&scene, state, budget, &out, pool)

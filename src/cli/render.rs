@@ -362,6 +362,7 @@ fn run_progressive(
         quiet: a.quiet,
         partial,
         env: progressive::env_settings(&a.env),
+        target_passes: None,
     };
     progressive::run(scene, state, budget, &outputs, &pool)
 }
