@@ -246,6 +246,9 @@ fn zero_passes_are_refused_and_a_short_time_runs_one_pass() {
         &dir,
     );
     assert_usage_error(&o, "--passes 1099511627777: must be at most 1099511627776");
+    // A scene given beside --resume would be ignored: it is refused.
+    let o = photon(&["render", "s.toml", "--resume", "t.checkpoint"], &dir);
+    assert_usage_error(&o, "not a scene (the checkpoint names its own)");
 }
 
 /// The library refuses what the command line refuses (the Python module renders through it).

@@ -50,9 +50,8 @@ const PROGRESSIVE: &str = Group::Progressive.heading();
 #[derive(clap::Args)]
 pub struct RenderArgs {
     /// Built-in scene name (see `photon scenes`) or scene file: .toml (docs/scene-format.md),
-    /// .gltf or .glb. Settings given here override the file's [render] table.
-    #[arg(default_value = DEFAULT_SCENE)]
-    scene: String,
+    /// .gltf or .glb. Settings given here override the file's [render] table [default: seed].
+    scene: Option<String>,
     /// Output image [default: render.png]; the extension picks the format (.png, .exr, .pfm,
     /// or .npy for one NumPy array per channel: NAME_r.npy, NAME_g.npy, NAME_b.npy). With
     /// --sample-range or --pass-range, the partial render file (.part).
@@ -101,6 +100,11 @@ pub struct RenderArgs {
 impl RenderArgs {
     /// The library's options: what was given here; the library fills in the scene's
     /// `[render]` table and the defaults.
+    /// The scene given, or the default one.
+    fn scene(&self) -> &str {
+        self.scene.as_deref().unwrap_or(DEFAULT_SCENE)
+    }
+
     fn options(&self) -> RenderOptions {
         self.settings.0.clone()
     }
@@ -127,6 +131,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             .filter(|(s, _)| !["passes", "time"].contains(&s.name))
             .map(|(s, _)| s.flag());
         let run_flags = [
+            (a.scene.is_some(), "a scene (the checkpoint names its own)"),
             (a.snapshots, "--snapshots"),
             (a.checkpoint.is_some(), "--checkpoint"),
             (a.keep_checkpoint, "--keep-checkpoint"),
@@ -156,7 +161,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         };
         return progressive::resume(cp, &args, &pool);
     }
-    let (loaded, inputs) = photon::io::input::recording(|| super::scene_with(&a.scene, &a.env));
+    let (loaded, inputs) = photon::io::input::recording(|| super::scene_with(a.scene(), &a.env));
     let (scene, spec, load_seconds) = loaded?;
     let mut job = RenderJob::new(&scene, &spec, a.options())?;
     let kind = job.integrator();
@@ -317,7 +322,7 @@ fn run_progressive(
             checkpoint.display()
         );
     }
-    if same(&checkpoint, std::path::Path::new(&a.scene)) {
+    if same(&checkpoint, std::path::Path::new(a.scene())) {
         bail!(
             "--checkpoint {} is the scene file; it would be overwritten",
             checkpoint.display()
@@ -516,5 +521,5 @@ pub fn job_request(
         .map_err(|e| anyhow::anyhow!("{}", e.render().to_string().trim_end()))?;
     refuse_per_run_flags(&a)?;
     let options = a.options();
-    Ok((a.scene, options, a.env.settings()))
+    Ok((a.scene().to_owned(), options, a.env.settings()))
 }
