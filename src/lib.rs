@@ -20,6 +20,7 @@ pub mod job;
 pub mod light;
 pub mod material;
 pub mod math;
+pub mod medium;
 pub mod modeling;
 pub mod photon;
 pub mod progressive;
