@@ -8,6 +8,7 @@ use common::{chi2, chi2_z};
 use photon::math::{Rgb, Vec3};
 use photon::medium::{HenyeyGreenstein, Homogeneous};
 use photon::sampling::Rng;
+use photon::settings::IntegratorKind;
 
 const N: u64 = 400_000;
 const Z_MAX: f64 = 4.0;
@@ -91,12 +92,15 @@ fn free_flights_reproduce_the_transmittance_and_scattering_density_of_a_slab() {
     let (mut passed, mut scattered) = (Rgb::ZERO, Rgb::ZERO);
     let n = 200_000;
     for _ in 0..n {
-        let f = m.sample_free_flight(d, rng.next_f32(), rng.next_f32());
+        let hero = photon::medium::hero_channel(rng.next_f32());
+        let f = m.sample_free_flight(d, hero, rng.next_f32());
+        // The balance heuristic over the channels' densities.
+        let weight = f.weight / ((f.ratio.x + f.ratio.y + f.ratio.z) / 3.0);
         if f.scattered {
             // The scattering weight carries σs; divide it out to count events.
-            scattered += f.weight / m.sigma_s * m.sigma_t();
+            scattered += weight / m.sigma_s * m.sigma_t();
         } else {
-            passed += f.weight;
+            passed += weight;
         }
     }
     let (passed, scattered) = (passed / n as f32, scattered / n as f32);
@@ -110,4 +114,362 @@ fn free_flights_reproduce_the_transmittance_and_scattering_density_of_a_slab() {
         (scattered - events).abs().max_element() < 0.01,
         "{scattered:?} vs {events:?}"
     );
+}
+
+// ---- Media in scenes, rendered, against closed forms -------------------------------------
+
+fn scene(toml: &str) -> photon::scene::Scene {
+    let desc = photon::description::toml_read::read_str(
+        toml,
+        std::path::Path::new("scene.toml"),
+        std::path::Path::new("."),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    photon::description::build::build(&desc).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The image's mean, rendered by `integrator` with `samples` samples per pixel or passes.
+fn image_mean(scene: &photon::scene::Scene, integrator: &str, samples: u32) -> Rgb {
+    let image = render(scene, integrator, samples, None);
+    image.pixels.iter().sum::<Rgb>() / image.pixels.len() as f32
+}
+
+/// The scene rendered by `integrator` with `samples` samples per pixel or passes, at `size`
+/// (default: the scene's).
+fn render(
+    scene: &photon::scene::Scene,
+    integrator: &str,
+    samples: u32,
+    size: Option<(u32, u32)>,
+) -> photon::film::Image {
+    let kind = match integrator {
+        "path" => IntegratorKind::Path,
+        "direct" => IntegratorKind::Direct,
+        "sppm" => IntegratorKind::Sppm,
+        "ppm" => IntegratorKind::Ppm,
+        _ => unreachable!("the photon integrator does not render media"),
+    };
+    let options = if kind.is_progressive() {
+        photon::settings::RenderOptions {
+            integrator: Some(kind),
+            passes: Some(u64::from(samples)),
+            photons_per_pass: Some(20_000),
+            // A ball well inside the sphere: near the wall a ball reaches past it and finds
+            // fewer photons, the boundary bias every density estimate has.
+            radius: Some(0.1),
+            ..Default::default()
+        }
+    } else {
+        photon::settings::RenderOptions {
+            integrator: Some(kind),
+            spp: Some(samples),
+            ..Default::default()
+        }
+    };
+    let options = photon::settings::RenderOptions {
+        width: size.map(|s| s.0),
+        height: size.map(|s| s.1),
+        ..options
+    };
+    let job = photon::render_job::RenderJob::new(scene, &Default::default(), options)
+        .unwrap_or_else(|e| panic!("{e}"));
+    job.render(&|_| {}, &std::sync::atomic::AtomicBool::new(false))
+        .expect("renders")
+        .image
+}
+
+/// A camera in an absorbing atmosphere (σa = 0.1) looking through an invisible box of
+/// coloured absorbing medium 1 m thick at a two-sided emitter of radiance 1, 5 m away:
+/// exp(−0.1 · 4 − σa,box · 1) per channel, with no noise (neither medium scatters).
+#[test]
+fn light_through_absorbing_media_is_beer_lambert_across_boundaries() {
+    let s = scene(
+        r#"
+medium = "haze"
+[camera]
+position = [0.0, 0.0, 3.0]
+look_at = [0.0, 0.0, 0.0]
+fov = 1.0
+resolution = [4, 4]
+
+[media.haze]
+sigma_a = 0.1
+
+[media.ink]
+sigma_a = [0.5, 1.0, 2.0]
+
+[[shapes]]
+type = "box"
+min = [-1.0, -1.0, -0.5]
+max = [1.0, 1.0, 0.5]
+interior = "ink"
+
+[[shapes]]
+type = "quad"
+vertices = [[-2.0, -2.0, -2.0], [2.0, -2.0, -2.0], [2.0, 2.0, -2.0], [-2.0, 2.0, -2.0]]
+emission = { radiance = 1.0, two_sided = true }
+"#,
+    );
+    for integrator in ["path", "direct", "sppm", "ppm"] {
+        let mean = image_mean(&s, integrator, 1);
+        for (c, sigma) in [0.5f32, 1.0, 2.0].into_iter().enumerate() {
+            let exact = (-0.4 - sigma).exp();
+            let got = mean.to_array()[c];
+            eprintln!("Beer–Lambert, {integrator}, channel {c}: {got:.6}, exact {exact:.6}");
+            // The corner pixels' rays are up to 0.5° off the axis: 4e-5 longer.
+            assert!(
+                (got - exact).abs() < 2e-4 * exact,
+                "{integrator}, channel {c}: {got} vs exp(−0.4 − {sigma}) = {exact}"
+            );
+        }
+    }
+}
+
+/// Single scattering along a camera ray from a point light in an infinite homogeneous medium:
+/// the ray x(t) = −t ẑ from the origin passes a light of intensity I at (0, h, 0), and
+/// L = ∫₀^∞ σs p(μ(t)) I e^{−σt t} e^{−σt r(t)} / r(t)² dt, r = √(h² + t²), with the
+/// scattering cosine μ = −t / r between the light's direction of travel and the camera's.
+/// The integral is taken by the midpoint rule on a substitution t = h tan θ that makes it
+/// smooth.
+fn single_scattering_integral(sigma_s: f64, sigma_t: f64, g: f64, intensity: f64, h: f64) -> f64 {
+    let n = 200_000;
+    let mut sum = 0.0;
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    for i in 0..n {
+        let theta = (i as f64 + 0.5) / n as f64 * half_pi;
+        let t = h * theta.tan();
+        let dt = h / (theta.cos() * theta.cos()) * half_pi / n as f64;
+        let r = (h * h + t * t).sqrt();
+        let mu = -t / r;
+        let phase =
+            (1.0 - g * g) / (4.0 * std::f64::consts::PI * (1.0 + g * g - 2.0 * g * mu).powf(1.5));
+        sum += sigma_s * phase * intensity * (-sigma_t * (t + r)).exp() / (r * r) * dt;
+    }
+    sum
+}
+
+#[test]
+fn single_scattering_from_a_point_light_in_an_infinite_medium_matches_its_integral() {
+    // Coloured: each channel's distances are drawn with the others' densities too (spectral
+    // MIS), so a wrong weight shows in some channel.
+    let (sigma_a, sigma_s) = ([0.2, 0.1, 0.5], [0.3, 0.6, 0.1]);
+    let (g, intensity, h) = (0.5, 10.0, 1.0);
+    let s = scene(&format!(
+        r#"
+medium = "fog"
+[camera]
+position = [0.0, 0.0, 0.0]
+look_at = [0.0, 0.0, -1.0]
+fov = 0.2
+resolution = [2, 2]
+
+[media.fog]
+sigma_a = {sigma_a:?}
+sigma_s = {sigma_s:?}
+g = {g}
+
+[[lights]]
+type = "point"
+position = [0.0, {h}, 0.0]
+intensity = {intensity}
+"#
+    ));
+    let mean = image_mean(&s, "direct", 16384);
+    for c in 0..3 {
+        let sigma_t = sigma_a[c] + sigma_s[c];
+        let exact = single_scattering_integral(sigma_s[c], sigma_t, g, intensity, h);
+        let got = f64::from(mean.to_array()[c]);
+        eprintln!("single scattering, channel {c}: direct {got:.5}, integral {exact:.5}");
+        assert!(
+            (got - exact).abs() < 0.02 * exact,
+            "channel {c}: direct {got} vs the single-scattering integral {exact}"
+        );
+    }
+}
+
+/// A furnace: a closed sphere whose wall emits radiance 1 and reflects nothing, filled with
+/// media that scatter but do not absorb (an atmosphere, and a ball of another medium behind an
+/// invisible boundary). Radiance 1 everywhere solves the transport equation there, so every
+/// pixel reads 1 however light scatters: light counted twice (emission found both by light
+/// sampling and by phase sampling, or by light sampling and photons) or lost at a boundary
+/// shows.
+fn furnace(camera_z: f32, cloud_z: f32, resolution: u32) -> photon::scene::Scene {
+    scene(&format!(
+        r#"
+medium = "mist"
+[camera]
+position = [0.0, 0.0, {camera_z}]
+look_at = [0.0, 0.0, -1.0]
+fov = 60.0
+resolution = [{resolution}, {resolution}]
+
+[media.mist]
+sigma_s = [1.0, 2.0, 4.0]
+g = 0.5
+
+[media.cloud]
+sigma_s = 5.0
+g = -0.3
+
+[[shapes]]
+type = "sphere"
+center = [0.0, 0.0, {cloud_z}]
+radius = 0.3
+interior = "cloud"
+
+[[lights]]
+type = "sphere"
+center = [0.0, 0.0, 0.0]
+radius = 1.0
+radiance = 1.0
+two_sided = true
+"#
+    ))
+}
+
+#[test]
+fn a_closed_sphere_of_scattering_media_reads_its_wall_radiance_everywhere() {
+    let s = furnace(0.5, -0.4, 4);
+    let mean = image_mean(&s, "path", 256);
+    for c in 0..3 {
+        let got = mean.to_array()[c];
+        eprintln!("furnace, channel {c}: path {got:.4}, exact 1");
+        assert!((got - 1.0).abs() < 0.02, "channel {c}: {got}, not 1");
+    }
+}
+
+/// The furnace with photons: direct light from the wall by light sampling at the camera
+/// path's point in the medium, the rest from the photons scattered around it (the volume
+/// radiance estimate). A photon estimate off by σs, by the ball's volume or by the photons
+/// that came straight from the wall shows in some channel.
+#[test]
+fn progressive_photon_mapping_reads_the_furnace_wall_radiance_in_media() {
+    // The camera at the centre, so that its points in the media are mostly a ball's radius
+    // from the wall, and the cloud behind it, so that few balls reach into it (see
+    // `image_mean`; a ball's photons are those of its own medium). Photons still cross it.
+    let s = furnace(0.0, 0.6, 8);
+    for integrator in ["sppm", "ppm"] {
+        let mean = image_mean(&s, integrator, 40);
+        for c in 0..3 {
+            let got = mean.to_array()[c];
+            eprintln!("furnace, channel {c}: {integrator} {got:.4}, exact 1");
+            assert!(
+                (got - 1.0).abs() < 0.05,
+                "{integrator}, channel {c}: {got}, not 1"
+            );
+        }
+    }
+}
+
+/// Mistakes in media are reported at their line and column, with what was expected.
+#[test]
+fn bad_media_are_errors_at_their_place() {
+    let head = "[camera]\nposition = [0.0, 0.0, 3.0]\nlook_at = [0.0, 0.0, 0.0]\n";
+    let cases = [
+        (
+            format!("medium = \"fgo\"\n{head}[media.fog]\nsigma_s = 0.1\n"),
+            "1:10",
+            "medium 'fgo' is not defined in [media] (defined: fog)",
+        ),
+        (
+            format!("{head}[media.fog]\nsigma_s = 0.1\ng = 1.0\n"),
+            "6:5",
+            "must be between -1 and 1",
+        ),
+        (
+            format!("{head}[media.fog]\nsigma_s = 0.1\ndensity = 2.0\n"),
+            "4:1",
+            "gives both sigma_a/sigma_s and albedo/density",
+        ),
+        (
+            format!("{head}[media.fog]\nalbedo = 1.5\n"),
+            "5:10",
+            "must be at most 1",
+        ),
+        (
+            format!("{head}[media.fog]\nsigma_a = -0.1\n"),
+            "5:11",
+            "must not be negative",
+        ),
+        (
+            format!(
+                "{head}[media.fog]\nsigma_s = 0.1\n[[shapes]]\ntype = \"sphere\"\nradius = 1.0\ninterior = \"smoke\"\n"
+            ),
+            "9:12",
+            "medium 'smoke' is not defined in [media]",
+        ),
+        (
+            format!("{head}[[shapes]]\ntype = \"sphere\"\nradius = 1.0\n"),
+            "4:1",
+            "needs a 'material' (or an 'interior' medium",
+        ),
+    ];
+    for (text, at, needle) in cases {
+        let e = photon::description::toml_read::read_str(
+            &text,
+            std::path::Path::new("fog.toml"),
+            std::path::Path::new("."),
+        )
+        .expect_err(&text)
+        .to_string();
+        assert!(
+            e.contains(&format!("fog.toml:{at}")),
+            "{e}\n--- for ---\n{text}"
+        );
+        assert!(e.contains(needle), "{e}\n--- for ---\n{text}");
+    }
+}
+
+/// The same scene and seed give the same image on one thread and on two, in media too (the
+/// photons scattered in media, the hero channels, the volume gathers).
+#[test]
+fn media_render_identically_on_one_and_two_threads() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/fog.toml");
+    let desc = photon::description::toml_read::read_file(std::path::Path::new(path))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let s = photon::description::build::build(&desc).unwrap_or_else(|e| panic!("{e}"));
+    for integrator in ["path", "direct", "sppm", "ppm"] {
+        let images = common::on_one_and_two_threads(|| {
+            let image = render(&s, integrator, 2, Some((12, 8)));
+            image
+                .pixels
+                .iter()
+                .map(|p| p.to_array().map(f32::to_bits))
+                .collect::<Vec<_>>()
+        });
+        assert_eq!(images[0], images[1], "{integrator}");
+    }
+}
+
+/// The two-pass photon integrator keeps no photons in media: it refuses such a scene and
+/// says which integrators render it, and so does tracing photon maps for it.
+#[test]
+fn the_photon_integrator_refuses_media_and_names_those_that_render_them() {
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let o = common::photon(
+        &[
+            "render",
+            "scenes/fog.toml",
+            "--integrator",
+            "photon",
+            "-o",
+            "x.png",
+        ],
+        repo,
+    );
+    common::assert_usage_error(&o, "path, direct, sppm and ppm do");
+    let dir = common::temp_dir("media-photon-maps");
+    let fog = repo.join("scenes/fog.toml");
+    let o = common::photon(
+        &[
+            "photons",
+            "trace",
+            fog.to_str().expect("utf-8"),
+            "-o",
+            "maps.phm",
+        ],
+        &dir,
+    );
+    common::assert_usage_error(&o, "participating media, which photon maps do not hold");
+    assert!(!dir.join("maps.phm").exists());
 }

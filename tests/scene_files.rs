@@ -100,6 +100,10 @@ fn every_documented_example_survives_a_round_trip_through_toml() {
         all += &written;
     }
     for needle in [
+        "[media.",
+        "interior = ",
+        "exterior = ",
+        "\nmedium = ",
         "\"triangles\"",
         "matrix",
         "look_at = {",

@@ -5,7 +5,7 @@ use super::mesh::{self, ImportedMaterial};
 use super::source::{Diagnostic, Item};
 use super::{
     ColorSpec, ConductorSpec, EmissionSpec, EnvironmentSpec, ImageRef, Intensity, LightSpec,
-    MaterialSpec, SceneDesc, ShapeKind, ShapeSpec, Sky, compose,
+    MaterialSpec, MediaSides, SceneDesc, ShapeKind, ShapeSpec, Sky, compose,
 };
 use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
@@ -17,6 +17,7 @@ use crate::material::{
     Conductor, ConductorFresnel, Dielectric, Lambertian, Material, Mirror, Pbr, RoughDielectric,
 };
 use crate::math::{Rgb, Vec3};
+use crate::medium::{Boundary, HenyeyGreenstein, Homogeneous, MediumId};
 use crate::modeling::PolyMesh;
 use crate::modeling::pot::{PotParams, pot};
 use crate::scene::{Emission, Scene, SceneBuilder, TextureMaps, TriangleMesh};
@@ -88,9 +89,17 @@ pub fn build_with(desc: &SceneDesc, cache: &mut MeshCache) -> Result<Scene> {
     }
     // The first builder object of each item, so that an object's error names its item.
     let mut first_objects: Vec<(usize, Item)> = Vec::new();
+    let media = add_media(&mut b, desc)?;
     for (i, shape) in desc.shapes.iter().enumerate() {
-        first_objects.push((b.object_count(), Item::Shape(i)));
+        let first = b.object_count();
+        first_objects.push((first, Item::Shape(i)));
         add_shape(&mut b, &mut ctx, shape).map_err(|e| desc.origins.locate(Item::Shape(i), e))?;
+        if let Some(sides) = &shape.media {
+            let boundary = media
+                .boundary(sides, shape.is_invisible_boundary())
+                .map_err(|e| desc.origins.locate(Item::Shape(i), e))?;
+            b.bound_objects_from(first, boundary);
+        }
     }
     for (i, light) in desc.lights.iter().enumerate() {
         first_objects.push((b.object_count(), Item::Light(i)));
@@ -109,6 +118,51 @@ pub fn build_with(desc: &SceneDesc, cache: &mut MeshCache) -> Result<Scene> {
         }
         other => other,
     })
+}
+
+/// The scene's media by name, and the medium around its shapes.
+struct Media<'a> {
+    ids: HashMap<&'a str, MediumId>,
+    atmosphere: Option<MediumId>,
+}
+
+impl Media<'_> {
+    fn id(&self, name: &str) -> Result<MediumId> {
+        self.ids
+            .get(name)
+            .copied()
+            .ok_or_else(|| Error::InvalidScene(format!("medium '{name}' is not defined")))
+    }
+
+    /// What a shape with these sides separates; outside is the atmosphere unless named.
+    fn boundary(&self, sides: &MediaSides, invisible: bool) -> Result<Boundary> {
+        Ok(Boundary {
+            inside: sides.interior.as_deref().map(|n| self.id(n)).transpose()?,
+            outside: match &sides.exterior {
+                Some(n) => Some(self.id(n)?),
+                None => self.atmosphere,
+            },
+            invisible,
+        })
+    }
+}
+
+fn add_media<'a>(b: &mut SceneBuilder, desc: &'a SceneDesc) -> Result<Media<'a>> {
+    let mut media = Media {
+        ids: HashMap::new(),
+        atmosphere: None,
+    };
+    for (name, m) in &desc.media {
+        let id = b.medium(Homogeneous {
+            sigma_a: m.sigma_a,
+            sigma_s: m.sigma_s,
+            phase: HenyeyGreenstein::new(m.g),
+        });
+        media.ids.insert(name, id);
+    }
+    media.atmosphere = desc.medium.as_deref().map(|n| media.id(n)).transpose()?;
+    b.atmosphere(media.atmosphere);
+    Ok(media)
 }
 
 fn add_light(b: &mut SceneBuilder, ctx: &mut Context, light: &LightSpec) -> Result<()> {
@@ -409,7 +463,7 @@ fn box_quads(min: Vec3, max: Vec3) -> Vec<[Vec3; 4]> {
 
 fn add_shape(b: &mut SceneBuilder, ctx: &mut Context, s: &ShapeSpec) -> Result<()> {
     let m = compose(&s.transform);
-    let emissive = s.emission.is_some();
+    let emissive = s.emission.is_some() || s.is_invisible_boundary();
     match &s.kind {
         ShapeKind::Sphere { center, radius } => {
             let shape = Shape::Sphere(Sphere {
@@ -497,6 +551,7 @@ fn add_mesh_file(
             &flat
         };
         let (material, emission) = match (&s.material, &part.material) {
+            _ if s.is_invisible_boundary() => (ctx.material(b, None, true)?, None),
             (None, None) if s.emission.is_none() => {
                 return Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
                     &path,
@@ -507,7 +562,11 @@ fn add_mesh_file(
                 ))));
             }
             (Some(_), _) | (None, None) => (
-                ctx.material(b, s.material.as_deref(), s.emission.is_some())?,
+                ctx.material(
+                    b,
+                    s.material.as_deref(),
+                    s.emission.is_some() || s.is_invisible_boundary(),
+                )?,
                 s.emission.clone(),
             ),
             (None, Some(im)) => (
@@ -566,7 +625,11 @@ fn analytic(
     shape: Shape,
     m: &Affine3A,
 ) -> Result<()> {
-    let material = ctx.material(b, s.material.as_deref(), s.emission.is_some())?;
+    let material = ctx.material(
+        b,
+        s.material.as_deref(),
+        s.emission.is_some() || s.is_invisible_boundary(),
+    )?;
     let world = shape
         .transformed(m)
         .map_err(|e| Error::InvalidScene(e.to_owned()))?;
@@ -586,7 +649,11 @@ fn add_mesh(
     mesh: &TriangleMesh,
     m: &Affine3A,
 ) -> Result<()> {
-    let material = ctx.material(b, s.material.as_deref(), s.emission.is_some())?;
+    let material = ctx.material(
+        b,
+        s.material.as_deref(),
+        s.emission.is_some() || s.is_invisible_boundary(),
+    )?;
     let emission = match &s.emission {
         Some(e) => Some(radiance(e, mesh_area(mesh, m), ctx.base_dir)?),
         None => None,

@@ -34,6 +34,11 @@ pub struct SceneDesc {
     pub materials: Vec<(String, MaterialSpec)>,
     pub shapes: Vec<ShapeSpec>,
     pub lights: Vec<LightSpec>,
+    /// Named participating media, in file order.
+    pub media: Vec<(String, MediumSpec)>,
+    /// The medium that fills the scene around its shapes (the camera and the lights are in
+    /// it); `None`: vacuum.
+    pub medium: Option<String>,
     /// Directory that relative file names are resolved against.
     pub base_dir: PathBuf,
     /// Where the camera, shapes and lights were written, for messages from the scene build.
@@ -79,6 +84,16 @@ pub enum MaterialSpec {
     },
     /// The glTF 2.0 metallic-roughness material.
     Pbr(PbrSpec),
+}
+
+/// A homogeneous participating medium: absorption and scattering coefficients per scene unit
+/// of length, per channel, and the Henyey–Greenstein asymmetry of its scattering.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MediumSpec {
+    pub sigma_a: Rgb,
+    pub sigma_s: Rgb,
+    /// In (−1, 1): −1 back, 0 isotropic, 1 forward.
+    pub g: f32,
 }
 
 /// How a conductor reflects: a named metal, a complex index of refraction, or an F0 colour.
@@ -269,10 +284,31 @@ pub enum ShapeKind {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShapeSpec {
     pub kind: ShapeKind,
-    /// Material name; `None` on an area light (black) or a mesh file (its own materials).
+    /// Material name; `None` on an area light (black), a mesh file (its own materials) or an
+    /// invisible boundary of a medium.
     pub material: Option<String>,
     pub transform: Vec<TransformStep>,
     pub emission: Option<EmissionSpec>,
+    /// The media the shape separates, if it bounds any.
+    pub media: Option<MediaSides>,
+}
+
+impl ShapeSpec {
+    /// A shape with an interior medium and neither material nor emission: it only marks
+    /// where the medium ends (see [`crate::medium::Boundary`]).
+    pub fn is_invisible_boundary(&self) -> bool {
+        self.material.is_none()
+            && self.emission.is_none()
+            && self.media.as_ref().is_some_and(|m| m.interior.is_some())
+    }
+}
+
+/// The media on the two sides of a closed shape, by name. Outside defaults to the scene's
+/// medium.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MediaSides {
+    pub interior: Option<String>,
+    pub exterior: Option<String>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -316,6 +352,8 @@ impl SceneDesc {
             materials: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),
+            media: Vec::new(),
+            medium: None,
             base_dir: PathBuf::new(),
             origins: source::Origins::default(),
             default_sky_warning: None,
@@ -361,6 +399,7 @@ impl SceneDesc {
             material: Some(material.to_owned()),
             transform: Vec::new(),
             emission: None,
+            media: None,
         });
     }
 }

@@ -24,6 +24,9 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
         desc.name
     ));
     w.kv("name", &string(&desc.name));
+    if let Some(m) = &desc.medium {
+        w.kv("medium", &string(m));
+    }
     let c = &desc.camera;
     w.section("[camera]");
     w.kv("position", &vec3(c.position));
@@ -111,6 +114,12 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 }
             }
         }
+    }
+    for (name, m) in &desc.media {
+        w.section(&format!("[media.{}]", key(name)));
+        w.kv("sigma_a", &vec3(m.sigma_a));
+        w.kv("sigma_s", &vec3(m.sigma_s));
+        w.kv("g", &float(m.g));
     }
     for s in &desc.shapes {
         w.section("[[shapes]]");
@@ -286,6 +295,14 @@ impl Writer {
         self.shape_kind(&s.kind);
         if let Some(m) = &s.material {
             self.kv("material", &string(m));
+        }
+        if let Some(sides) = &s.media {
+            if let Some(m) = &sides.interior {
+                self.kv("interior", &string(m));
+            }
+            if let Some(m) = &sides.exterior {
+                self.kv("exterior", &string(m));
+            }
         }
         if !s.transform.is_empty() {
             let steps: Vec<String> = s.transform.iter().map(step).collect();

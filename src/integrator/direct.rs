@@ -3,12 +3,13 @@
 //! samples per area light, and mirror and glass followed recursively. No indirect diffuse light.
 
 use super::delta::smooth_branches;
-use super::lighting::direct_light;
+use super::lighting::{MediumPoint, direct_light, direct_light_in_medium};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::Part;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::medium::{MediumId, hero_channel, spectral_mis};
 use crate::sampling::Rng;
-use crate::scene::Scene;
+use crate::scene::{Hit, Interaction, Scene};
 
 #[derive(Clone, Debug)]
 pub struct DirectConfig {
@@ -39,10 +40,17 @@ pub(super) fn radiance(
     stats: &mut RayStats,
 ) -> Sample {
     stats.camera += 1;
+    // Spectral MIS in media (see `crate::medium`): the hero channel of the distances.
+    let hero = if scene.has_media() {
+        hero_channel(rng.next_f32())
+    } else {
+        0
+    };
     let mut walk = Walk {
         rng,
         stats,
         first_diffuse: None,
+        hero,
     };
     let beauty = trace(
         c,
@@ -51,6 +59,8 @@ pub(super) fn radiance(
         Branch {
             depth: 0,
             weight: 1.0,
+            medium: scene.atmosphere(),
+            ratio: Rgb::ONE,
         },
         &mut walk,
     );
@@ -72,23 +82,71 @@ struct Walk<'a> {
     rng: &'a mut Rng,
     stats: &'a mut RayStats,
     first_diffuse: Option<(f32, Rgb, Vec3)>,
+    hero: usize,
 }
 
-/// Where a branch of the camera path is: its specular depth and its largest channel weight.
+/// Where a branch of the camera path is: its specular depth, its largest channel weight, the
+/// medium it travels in, and the channels' densities of its distances over the hero's.
 #[derive(Clone, Copy)]
 struct Branch {
     depth: u32,
     weight: f32,
+    medium: Option<MediumId>,
+    ratio: Rgb,
 }
 
+/// The light along `ray`. In a medium, a distance is sampled: light scattered once toward
+/// the camera at that point (single scattering), or the surface beyond.
 fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk) -> Rgb {
-    let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
+    let step = scene.next_interaction(ray, at.medium, walk.hero, &mut *walk.rng);
+    walk.stats.bounce += u64::from(step.crossings);
+    if step.weight == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let ratio = at.ratio * step.ratio;
+    let (hit, medium) = match step.interaction {
         // Seen from the camera or along delta lobes: no light sample could have found it.
-        return scene.escaped(ray.dir);
+        Interaction::Escaped => {
+            return step.weight * scene.escaped(ray.dir) * spectral_mis(ratio);
+        }
+        Interaction::Scatter { p, medium } => {
+            let mp = MediumPoint {
+                p,
+                wo: -ray.dir,
+                medium,
+            };
+            let l = direct_light_in_medium(c.light_samples, scene, &mp, walk.rng, walk.stats);
+            return step.weight * l * spectral_mis(ratio);
+        }
+        Interaction::Surface { hit, medium } => (hit, medium),
     };
+    step.weight
+        * surface(
+            c,
+            scene,
+            ray,
+            &hit,
+            Branch {
+                medium,
+                ratio,
+                ..at
+            },
+            walk,
+        )
+}
+
+/// Emission, direct light and the delta lobes at a surface `ray` reached.
+fn surface(
+    c: &DirectConfig,
+    scene: &Scene,
+    ray: &Ray,
+    hit: &Hit,
+    at: Branch,
+    walk: &mut Walk,
+) -> Rgb {
     let wo = -ray.dir;
-    let mut l = scene.emitted(&hit, wo);
-    let sp = ShadingPoint::new(scene, &hit, wo);
+    let mut l = scene.emitted(hit, wo);
+    let sp = ShadingPoint::new(scene, hit, wo).in_medium(at.medium);
     let lobes = sp.material.lobes();
     if lobes.has_density() {
         if sp.material.has(Part::Rough) && walk.first_diffuse.is_none_or(|f| at.weight > f.0) {
@@ -96,6 +154,7 @@ fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk
         }
         l += direct_light(c.light_samples, scene, &sp, None, walk.rng, walk.stats);
     }
+    l *= spectral_mis(at.ratio);
     if lobes.is_specular() && at.depth < c.max_depth {
         l += specular(c, scene, &sp, at, walk);
     }
@@ -124,6 +183,8 @@ fn specular(
         let branch = Branch {
             depth: at.depth + 1,
             weight: at.weight * b.weight.max_element(),
+            medium: scene.medium_after(sp.hit, sp.medium, wi),
+            ratio: at.ratio,
         };
         l += b.weight * trace(c, scene, &next, branch, walk);
     }

@@ -7,6 +7,7 @@ use super::{RayStats, ShadingPoint};
 use crate::light::LightSample;
 use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::medium::MediumId;
 use crate::sampling::{Rng, Sampler};
 use crate::scene::{Hit, NO_LIGHT, Scene};
 
@@ -29,7 +30,8 @@ pub(crate) fn light_sample_contribution(
     (value != Rgb::ZERO).then(|| (value, sp.material.pdf(sp.wo_local, wi_local)))
 }
 
-/// f·L·|cos|/pdf of one light sample for the BSDF value `f`, or zero if the light is hidden.
+/// f·L·|cos|/pdf of one light sample for the BSDF value `f`, or zero if the light is hidden
+/// (times the transmittance of the media between, in a scene with media).
 pub(crate) fn shadowed(
     scene: &Scene,
     sp: &ShadingPoint,
@@ -41,27 +43,124 @@ pub(crate) fn shadowed(
         return Rgb::ZERO;
     }
     stats.shadow += 1;
-    if !unoccluded(scene, sp.hit, ls) {
+    let tr = visibility(scene, sp, ls);
+    if tr == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    f * ls.radiance * (sp.frame.n.dot(ls.wi).abs() / ls.pdf)
+    f * tr * ls.radiance * (sp.frame.n.dot(ls.wi).abs() / ls.pdf)
 }
 
-/// Whether the segment from the shading point to the light sample is free. Both ends are moved
-/// off their surfaces (the light's end toward the shading point), and the ray runs between the
-/// moved ends: reusing the direction and length measured from the unmoved point made the
-/// segment cross the light's own plane when a surface saw the light at a grazing angle, so the
-/// light shadowed itself (a patch beside a quad light lost 63% of its irradiance).
-fn unoccluded(scene: &Scene, hit: &Hit, ls: &LightSample) -> bool {
+/// The fraction of the light sample's light that reaches the shading point: one or zero
+/// (whether the segment between them is free), or the transmittance of the media along it.
+/// Both ends are moved off their surfaces (the light's end toward the shading point), and
+/// the ray runs between the moved ends: reusing the direction and length measured from the
+/// unmoved point made the segment cross the light's own plane when a surface saw the light at
+/// a grazing angle, so the light shadowed itself (a patch beside a quad light lost 63% of its
+/// irradiance).
+fn visibility(scene: &Scene, sp: &ShadingPoint, ls: &LightSample) -> Rgb {
+    let hit = sp.hit;
     let origin = offset_origin(hit.p, hit.ng, ls.wi);
-    if ls.is_delta {
-        // A point has no surface to shadow itself with.
-        return !scene.occluded(origin, ls.wi, (ls.point - origin).length());
+    if scene.has_media() {
+        let medium = scene.medium_after(hit, sp.medium, ls.wi);
+        return scene.transmittance(origin, light_end(ls, origin), medium);
     }
-    let target = offset_origin(ls.point, ls.normal, origin - ls.point);
-    let d = target - origin;
-    let dist = d.length();
-    dist > 0.0 && !scene.occluded(origin, d / dist, dist)
+    let free = if ls.is_delta {
+        !scene.occluded(origin, ls.wi, (ls.point - origin).length())
+    } else {
+        let d = light_end(ls, origin) - origin;
+        let dist = d.length();
+        dist > 0.0 && !scene.occluded(origin, d / dist, dist)
+    };
+    if free { Rgb::ONE } else { Rgb::ZERO }
+}
+
+/// The far end of a shadow ray from `origin` to a light sample: the sampled point, moved off
+/// the light's surface toward `origin` (a point light has no surface to shadow itself with).
+fn light_end(ls: &LightSample, origin: Vec3) -> Vec3 {
+    if ls.is_delta {
+        ls.point
+    } else {
+        offset_origin(ls.point, ls.normal, origin - ls.point)
+    }
+}
+
+/// A point where light scatters in a medium, seen from direction `wo`.
+pub(crate) struct MediumPoint {
+    pub p: Vec3,
+    pub wo: Vec3,
+    pub medium: MediumId,
+}
+
+/// phase·L·Tr/pdf of one light sample at a point in a medium (no cosine: a medium has no
+/// surface), and the phase function's density for the same direction (for MIS).
+fn in_scattered(
+    scene: &Scene,
+    mp: &MediumPoint,
+    ls: &LightSample,
+    stats: &mut RayStats,
+) -> (Rgb, f32) {
+    let phase = scene.medium(mp.medium).phase.eval(mp.wo, ls.wi);
+    if phase == 0.0 || ls.pdf == 0.0 {
+        return (Rgb::ZERO, phase);
+    }
+    stats.shadow += 1;
+    let tr = scene.transmittance(mp.p, light_end(ls, mp.p), Some(mp.medium));
+    (tr * ls.radiance * (phase / ls.pdf), phase)
+}
+
+/// One light, chosen by power, sampled once from a point in a medium; MIS-weighted against
+/// sampling the phase function for lights with an area (the path tracer's next-event
+/// estimation in media, Pharr et al. 2016 §15.3).
+pub(crate) fn one_light_in_medium(
+    scene: &Scene,
+    mp: &MediumPoint,
+    rng: &mut impl Sampler,
+    stats: &mut RayStats,
+) -> Rgb {
+    let u_choose = rng.next_f32();
+    let u_pick = rng.next_f32();
+    let u = rng.next_2d();
+    let Some((i, pmf, _)) = scene.choose_light(u_choose) else {
+        return Rgb::ZERO;
+    };
+    let Some(mut ls) = scene.lights()[i].sample_li(mp.p, u_pick, u) else {
+        return Rgb::ZERO;
+    };
+    ls.pdf *= pmf;
+    let (value, phase_pdf) = in_scattered(scene, mp, &ls, stats);
+    if ls.is_delta {
+        value
+    } else {
+        value * power_heuristic(ls.pdf, phase_pdf)
+    }
+}
+
+/// Light arriving directly at a point in a medium from every light, `light_samples` samples
+/// for those with an area: single scattering, for the `direct` integrator.
+pub(crate) fn direct_light_in_medium(
+    light_samples: u32,
+    scene: &Scene,
+    mp: &MediumPoint,
+    rng: &mut impl Sampler,
+    stats: &mut RayStats,
+) -> Rgb {
+    let mut sum = Rgb::ZERO;
+    for light in scene.lights() {
+        let samples = if light.is_delta() {
+            1
+        } else {
+            light_samples.max(1)
+        };
+        let mut acc = Rgb::ZERO;
+        for _ in 0..samples {
+            let u_pick = rng.next_f32();
+            if let Some(ls) = light.sample_li(mp.p, u_pick, rng.next_2d()) {
+                acc += in_scattered(scene, mp, &ls, stats).0;
+            }
+        }
+        sum += acc / samples as f32;
+    }
+    sum
 }
 
 /// Power heuristic with β = 2 (Veach & Guibas 1995).

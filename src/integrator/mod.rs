@@ -14,7 +14,7 @@ mod visible;
 pub use direct::DirectConfig;
 pub use path::PathConfig;
 pub use photon::{PhotonIntegrator, PhotonSettings};
-pub use visible::{CameraPath, VisiblePoint, trace_camera_path};
+pub use visible::{CameraPath, VisiblePoint, VolumePoint, trace_camera_path};
 
 use crate::material::Material;
 use crate::math::{Frame, Ray, Rgb, Vec3};
@@ -114,6 +114,8 @@ pub(crate) struct ShadingPoint<'a> {
     pub wo_local: Vec3,
     /// The geometric normal on the side of `wo` (see [`Hit::ng_facing`]).
     pub ng: Vec3,
+    /// The medium the path reached the point through (see [`Scene::medium_after`]).
+    pub medium: Option<crate::medium::MediumId>,
 }
 
 impl<'a> ShadingPoint<'a> {
@@ -125,6 +127,12 @@ impl<'a> ShadingPoint<'a> {
             frame,
             wo_local: frame.to_local(wo),
             ng: hit.ng_facing(wo),
+            medium: scene.atmosphere(),
         }
+    }
+
+    /// The point reached through `medium`.
+    pub fn in_medium(self, medium: Option<crate::medium::MediumId>) -> Self {
+        Self { medium, ..self }
     }
 }

@@ -1,12 +1,15 @@
 //! Unidirectional path tracing with next-event estimation, multiple importance sampling
 //! (Veach & Guibas 1995, power heuristic) and Russian roulette: the ground truth.
 
-use super::lighting::{light_pdf_for_hit, one_light_by_power, power_heuristic};
+use super::lighting::{
+    MediumPoint, light_pdf_for_hit, one_light_by_power, one_light_in_medium, power_heuristic,
+};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::medium::{hero_channel, spectral_mis};
 use crate::sampling::Rng;
-use crate::scene::{NO_LIGHT, Scene};
+use crate::scene::{Interaction, NO_LIGHT, Scene};
 
 #[derive(Clone, Debug)]
 pub struct PathConfig {
@@ -36,7 +39,17 @@ pub(super) fn radiance(
     let mut l = Rgb::ZERO;
     let mut beta = Rgb::ONE;
     let mut ray = *camera_ray;
-    // Density of the BSDF sample that produced `ray`, and whether it was a delta lobe.
+    let mut medium = scene.atmosphere();
+    // Spectral MIS in media (see `crate::medium`): the hero channel distances are drawn
+    // with, and each channel's density of them over the hero's. Contributions are divided by
+    // the mean ratio.
+    let hero = if scene.has_media() {
+        hero_channel(rng.next_f32())
+    } else {
+        0
+    };
+    let mut ratio = Rgb::ONE;
+    // Density of the BSDF or phase sample that produced `ray`, and whether it was a delta lobe.
     let mut prev_pdf = 0.0f32;
     let mut prev_specular = true;
     let mut prev_point = ray.origin;
@@ -45,16 +58,47 @@ pub(super) fn radiance(
         if depth > 0 {
             stats.bounce += 1;
         }
-        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-            if let Some((i, env)) = scene.environment() {
-                let w = if prev_specular {
-                    1.0
-                } else {
-                    power_heuristic(prev_pdf, scene.light_choice_pmf(i) * env.pdf(ray.dir))
-                };
-                l += beta * env.radiance(ray.dir) * w;
+        let step = scene.next_interaction(&ray, medium, hero, rng);
+        stats.bounce += u64::from(step.crossings);
+        beta *= step.weight;
+        ratio *= step.ratio;
+        let mis = spectral_mis(ratio);
+        let (hit, reached_through) = match step.interaction {
+            Interaction::Escaped => {
+                if let Some((i, env)) = scene.environment() {
+                    let w = if prev_specular {
+                        1.0
+                    } else {
+                        power_heuristic(prev_pdf, scene.light_choice_pmf(i) * env.pdf(ray.dir))
+                    };
+                    l += beta * env.radiance(ray.dir) * (w * mis);
+                }
+                break;
             }
-            break;
+            Interaction::Scatter { p, medium: m } => {
+                // Volumetric path tracing (Pharr et al. 2016, §15.3): light sampled at the
+                // scattering point, then a direction drawn from the phase function.
+                if beta == Rgb::ZERO {
+                    break;
+                }
+                let mp = MediumPoint {
+                    p,
+                    wo: -ray.dir,
+                    medium: m,
+                };
+                l += beta * one_light_in_medium(scene, &mp, rng, stats) * mis;
+                let s = scene.medium(m).phase.sample(mp.wo, rng.next_2d());
+                if !survives_roulette(c, depth, &mut beta, mis, rng) {
+                    break;
+                }
+                prev_pdf = s.pdf;
+                prev_specular = false;
+                prev_point = p;
+                ray = Ray::new(p, s.wi);
+                medium = Some(m);
+                continue;
+            }
+            Interaction::Surface { hit, medium } => (hit, medium),
         };
         let wo = -ray.dir;
         if hit.light != NO_LIGHT {
@@ -65,17 +109,17 @@ pub(super) fn radiance(
                 } else {
                     power_heuristic(prev_pdf, light_pdf_for_hit(scene, prev_point, &hit))
                 };
-                l += beta * le * w;
+                l += beta * le * (w * mis);
             }
         }
-        let sp = ShadingPoint::new(scene, &hit, wo);
+        let sp = ShadingPoint::new(scene, &hit, wo).in_medium(reached_through);
         if !sp.material.is_specular() {
             if out.normal == Vec3::ZERO {
                 // The albedo and normal AOVs: the first diffuse surface on the path.
                 out.albedo = sp.material.albedo(sp.wo_local);
                 out.normal = sp.frame.n;
             }
-            l += beta * one_light_by_power(scene, &sp, rng, stats);
+            l += beta * one_light_by_power(scene, &sp, rng, stats) * mis;
         }
         let u_lobe = rng.next_f32();
         let Some(s) =
@@ -85,22 +129,31 @@ pub(super) fn radiance(
             break;
         };
         beta *= s.weight;
-        if beta == Rgb::ZERO {
+        if beta == Rgb::ZERO || !survives_roulette(c, depth, &mut beta, mis, rng) {
             break;
-        }
-        if depth + 1 >= c.rr_depth {
-            let q = beta.max_element().min(0.95);
-            if rng.next_f32() >= q {
-                break;
-            }
-            beta /= q;
         }
         let wi = sp.frame.to_world(s.wi);
         prev_pdf = s.pdf;
         prev_specular = s.is_specular();
         prev_point = hit.p;
+        medium = scene.medium_after(&hit, reached_through, wi);
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
     }
     out.beauty = l;
     out
+}
+
+/// Russian roulette from `rr_depth` on, on the throughput `beta` times the path's spectral
+/// MIS factor `mis`: the path goes on with probability min(max, 0.95), its throughput divided
+/// by it.
+fn survives_roulette(c: &PathConfig, depth: u32, beta: &mut Rgb, mis: f32, rng: &mut Rng) -> bool {
+    if depth + 1 < c.rr_depth {
+        return true;
+    }
+    let q = (beta.max_element() * mis).min(0.95);
+    if rng.next_f32() >= q {
+        return false;
+    }
+    *beta /= q;
+    true
 }

@@ -2,12 +2,15 @@
 //! mapping (Hachisuka et al. 2008), with the light that needs no photons gathered on the way.
 
 use super::delta::{smooth_branches, stop_probability};
-use super::lighting::{direct_light, emission_weight, escaped_radiance};
+use super::lighting::{
+    MediumPoint, direct_light, direct_light_in_medium, emission_weight, escaped_radiance,
+};
 use super::{RayStats, ShadingPoint};
 use crate::material::{Material, Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
+use crate::medium::{MediumId, hero_channel, spectral_mis};
 use crate::sampling::Sampler;
-use crate::scene::Scene;
+use crate::scene::{Interaction, Scene};
 
 /// Where a camera path stopped on a rough surface.
 #[derive(Clone, Copy, Debug)]
@@ -25,12 +28,28 @@ pub struct VisiblePoint {
     pub distance: f32,
 }
 
+/// Where a camera path stopped at a scattering point in a medium.
+#[derive(Clone, Copy, Debug)]
+pub struct VolumePoint {
+    pub p: Vec3,
+    /// Toward the camera.
+    pub wo: Vec3,
+    pub medium: MediumId,
+    /// Throughput of the path from the camera, σs of the scattering included, divided by the
+    /// probabilities of its choices.
+    pub beta: Rgb,
+    /// Length of the path from the camera (for the pixel footprint).
+    pub distance: f32,
+}
+
 /// A camera path: emission seen through mirrors and glass plus direct light (next-event
-/// estimation) at the visible point, both weighted by the path throughput, and the point.
+/// estimation) at the visible point, both weighted by the path throughput, and the point: on
+/// a surface or in a medium.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CameraPath {
     pub direct: Rgb,
     pub visible: Option<VisiblePoint>,
+    pub volume: Option<VolumePoint>,
 }
 
 /// Follow `ray` along the smooth parts of materials (see [`Part`]) to a point where it stops
@@ -40,7 +59,11 @@ pub struct CameraPath {
 ///
 /// Light found along delta lobes alone (the light seen in a mirror or through glass) is
 /// summed over both branches of glass for the first [`SPLIT_DEPTH`] bounces instead (see
-/// [`DeltaChain`]).
+/// [`DeltaChain`]), except in scenes with media.
+///
+/// In a medium a distance is sampled (see [`Scene::next_interaction`]); a path that scatters
+/// there stops at a [`VolumePoint`], with the light arriving there directly: a medium is
+/// rough everywhere, as a diffuse surface is (Knaus and Zwicker 2011 treat media so).
 pub fn trace_camera_path<S: Sampler>(
     scene: &Scene,
     ray: &Ray,
@@ -55,16 +78,55 @@ pub fn trace_camera_path<S: Sampler>(
     let mut distance = 0.0;
     // The previous point and the density of the glossy sample that left it, for MIS.
     let mut arrival: Option<(Vec3, f32)> = None;
-    // While every bounce has been along a delta lobe: the weight of the light found.
-    let mut chain = Some(DeltaChain { weight: Rgb::ONE });
+    // While every bounce has been along a delta lobe: the weight of the light found. The
+    // branches are traced without media, so scenes with media follow one branch.
+    let mut chain = (!scene.has_media()).then_some(DeltaChain { weight: Rgb::ONE });
+    let mut medium = scene.atmosphere();
+    // Spectral MIS in media (see `crate::medium`).
+    let hero = if scene.has_media() {
+        hero_channel(rng.next_f32())
+    } else {
+        0
+    };
+    let mut ratio = Rgb::ONE;
     stats.camera += 1;
     for depth in 0..=max_depth {
-        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-            let w = chain.map_or(beta, |d| d.weight);
-            out.direct += w * escaped_radiance(light_samples, scene, ray.dir, arrival.map(|a| a.1));
-            return out;
+        let step = scene.next_interaction(&ray, medium, hero, rng);
+        stats.bounce += u64::from(step.crossings);
+        beta *= step.weight;
+        ratio *= step.ratio;
+        let mis = spectral_mis(ratio);
+        let (hit, reached_through) = match step.interaction {
+            Interaction::Escaped => {
+                let w = chain.map_or(beta * mis, |d| d.weight);
+                let sky = escaped_radiance(light_samples, scene, ray.dir, arrival.map(|a| a.1));
+                out.direct += w * sky;
+                return out;
+            }
+            Interaction::Scatter { p, medium } => {
+                let mp = MediumPoint {
+                    p,
+                    wo: -ray.dir,
+                    medium,
+                };
+                let beta = beta * mis;
+                out.direct += beta * direct_light_in_medium(light_samples, scene, &mp, rng, stats);
+                out.volume = Some(VolumePoint {
+                    p,
+                    wo: mp.wo,
+                    medium,
+                    beta,
+                    distance: distance + (p - ray.origin).length(),
+                });
+                return out;
+            }
+            Interaction::Surface { hit, medium } => (hit, medium),
         };
-        distance += hit.t;
+        distance += if step.crossings == 0 {
+            hit.t
+        } else {
+            (hit.p - ray.origin).length()
+        };
         let wo = -ray.dir;
         let mut le = scene.emitted(&hit, wo);
         if let Some((from, p_bsdf)) = arrival
@@ -72,8 +134,8 @@ pub fn trace_camera_path<S: Sampler>(
         {
             le *= emission_weight(light_samples, scene, from, &hit, p_bsdf);
         }
-        out.direct += chain.map_or(beta, |d| d.weight) * le;
-        let sp = ShadingPoint::new(scene, &hit, wo);
+        out.direct += chain.map_or(beta * mis, |d| d.weight) * le;
+        let sp = ShadingPoint::new(scene, &hit, wo).in_medium(reached_through);
         let m = &sp.material;
         let may_go_on = depth < max_depth;
         // Only the delta branches of the first bounces are summed; deeper ones are sampled.
@@ -89,7 +151,7 @@ pub fn trace_camera_path<S: Sampler>(
         let stop = stop_probability(m, sp.wo_local, may_go_on);
         if m.lobes().has_density() {
             out.direct +=
-                beta * direct_light(light_samples, scene, &sp, Some(1.0 - stop), rng, stats);
+                beta * mis * direct_light(light_samples, scene, &sp, Some(1.0 - stop), rng, stats);
         }
         if stop > 0.0 && (stop >= 1.0 || rng.next_f32() < stop) {
             out.direct += other_branches(None, rng, stats);
@@ -99,7 +161,7 @@ pub fn trace_camera_path<S: Sampler>(
                 wo_local: sp.wo_local,
                 ng: sp.ng,
                 material: sp.material,
-                beta: beta / stop,
+                beta: beta * mis / stop,
                 distance,
             });
             return out;
@@ -133,6 +195,7 @@ pub fn trace_camera_path<S: Sampler>(
         beta *= s.weight / go_on;
         arrival = (!s.is_specular()).then_some((hit.p, go_on * s.pdf));
         let wi = sp.frame.to_world(s.wi);
+        medium = scene.medium_after(&hit, reached_through, wi);
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
         stats.bounce += 1;
     }

@@ -2,10 +2,14 @@
 //! or the whole scene (an atmosphere). A medium absorbs (σa) and scatters (σs) per unit
 //! length and per RGB channel; scattering picks a new direction by its phase function.
 //!
-//! Free-flight sampling follows the spectral approach of pbrt-v3 (Pharr, Jakob and
-//! Humphreys 2016, §15.2): a channel is chosen uniformly, a distance is drawn from that
-//! channel's exponential, and the throughput is divided by the average of the three channels'
-//! densities, so a medium coloured in σt stays unbiased in every channel.
+//! Free-flight sampling in a medium coloured in σt uses spectral MIS over the whole path
+//! (Wilkie et al. 2014, "Hero wavelength spectral sampling"; pbrt-v4's `r_u`): a path picks
+//! one *hero* channel and draws every distance from that channel's exponential; it carries
+//! f/p_hero per channel and the ratios p_k/p_hero of every channel's density for the same
+//! choices, and its contribution is divided by the ratios' mean, the balance heuristic over
+//! the three channels. Choosing the channel anew at each step and weighting step by step (pbrt-v3)
+//! is unbiased too, but its weights multiply along a path: a furnace of σs = (0.5, 2, 8) read
+//! 0.41 instead of 1 in blue after 65k paths.
 
 mod phase;
 
@@ -16,6 +20,19 @@ use crate::math::Rgb;
 /// Index of a medium in the scene's list.
 pub type MediumId = u32;
 
+/// What a closed shape separates: the medium inside it and the medium outside (`None`:
+/// vacuum), and whether the surface itself is there. An invisible boundary (pbrt-v4's
+/// "interface" material, Mitsuba's `null` BSDF) only marks where one medium ends and the
+/// next begins: rays cross it unchanged. A ray leaving a point of a boundary is in the medium
+/// on the side it leaves to (the outward side is that of the geometric normal, as modelled);
+/// surfaces that are no boundary leave a ray in the medium it came in (pbrt-v4's rule).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Boundary {
+    pub inside: Option<MediumId>,
+    pub outside: Option<MediumId>,
+    pub invisible: bool,
+}
+
 /// A homogeneous medium: the same coefficients everywhere, per scene unit of length.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Homogeneous {
@@ -25,13 +42,15 @@ pub struct Homogeneous {
 }
 
 /// Where a ray's next event in a medium is: a scattering point at `t`, or the surface at
-/// the end of the segment. `weight` is the throughput to multiply in: transmittance, times
-/// σs at a scattering point, over the density of the choice.
+/// the end of the segment. `weight` is the throughput to multiply in, f/p_hero per channel
+/// (transmittance, times σs at a scattering point, over the hero channel's density of the
+/// choice); `ratio` is each channel's density of the same choice over the hero's.
 #[derive(Clone, Copy, Debug)]
 pub struct FreeFlight {
     pub t: f32,
     pub scattered: bool,
     pub weight: Rgb,
+    pub ratio: Rgb,
 }
 
 impl Homogeneous {
@@ -39,45 +58,68 @@ impl Homogeneous {
         self.sigma_a + self.sigma_s
     }
 
-    /// Transmittance over `distance`: exp(−σt d) (Beer–Lambert).
+    /// Whether light can scatter in it (σs > 0 in some channel); a medium that only absorbs
+    /// needs no sampled distances: its transmittance is known.
+    pub fn scatters(&self) -> bool {
+        self.sigma_s.max_element() > 0.0
+    }
+
+    /// Transmittance over `distance`: exp(−σt d) (Beer–Lambert). A channel with σt = 0 is
+    /// clear at any distance, an infinite one included.
     pub fn transmittance(&self, distance: f32) -> Rgb {
-        let d = self.sigma_t() * distance;
-        Rgb::new((-d.x).exp(), (-d.y).exp(), (-d.z).exp())
+        let channel = |s: f32| if s > 0.0 { (-s * distance).exp() } else { 1.0 };
+        let t = self.sigma_t();
+        Rgb::new(channel(t.x), channel(t.y), channel(t.z))
     }
 
     /// Sample the next event along a segment of length `t_max` (infinite when the ray
-    /// escapes), with `u_channel` choosing the channel and `u_distance` the distance.
-    pub fn sample_free_flight(&self, t_max: f32, u_channel: f32, u_distance: f32) -> FreeFlight {
+    /// escapes), drawing the distance from channel `hero`'s σt with `u`.
+    pub fn sample_free_flight(&self, t_max: f32, hero: usize, u: f32) -> FreeFlight {
         let sigma_t = self.sigma_t();
-        let channel = ((u_channel * 3.0) as usize).min(2);
-        let s = sigma_t.to_array()[channel];
+        let s = sigma_t.to_array()[hero.min(2)];
         let t = if s > 0.0 {
-            -(1.0 - u_distance).ln() / s
+            -(1.0 - u).ln() / s
         } else {
             f32::INFINITY
         };
         let scattered = t < t_max;
         let t = t.min(t_max);
         let tr = self.transmittance(t);
-        // The density of what happened, per channel, averaged over the channel choice:
-        // σt·Tr for a scattering at t, Tr for passing the whole segment.
-        let density = if scattered { sigma_t * tr } else { tr };
-        let pdf = (density.x + density.y + density.z) / 3.0;
-        let weight = if pdf > 0.0 {
-            if scattered {
-                tr * self.sigma_s / pdf
-            } else {
-                tr / pdf
-            }
+        // Each channel's density of what happened: σt·Tr for a scattering at t, Tr for
+        // passing the whole segment.
+        let (density, f) = if scattered {
+            (sigma_t * tr, self.sigma_s * tr)
         } else {
-            Rgb::ZERO
+            (tr, tr)
         };
+        let p_hero = density.to_array()[hero.min(2)];
+        if p_hero.is_nan() || p_hero <= 0.0 {
+            return FreeFlight {
+                t,
+                scattered,
+                weight: Rgb::ZERO,
+                ratio: Rgb::ONE,
+            };
+        }
         FreeFlight {
             t,
             scattered,
-            weight,
+            weight: f / p_hero,
+            ratio: density / p_hero,
         }
     }
+}
+
+/// The balance heuristic over the channels for a path whose densities over the hero's are
+/// `ratio` (see [`FreeFlight`]): the factor its contributions take, 1 / mean(ratio).
+#[inline]
+pub fn spectral_mis(ratio: Rgb) -> f32 {
+    3.0 / (ratio.x + ratio.y + ratio.z)
+}
+
+/// The hero channel a path draws its distances with, from a uniform number.
+pub fn hero_channel(u: f32) -> usize {
+    ((u * 3.0) as usize).min(2)
 }
 
 #[cfg(test)]
@@ -86,7 +128,8 @@ mod tests {
 
     #[test]
     fn free_flight_is_unbiased_for_the_transmittance_of_a_coloured_slab() {
-        // E[weight · 1(passed)] over u must be exp(−σt d) per channel.
+        // E[weight / mean(ratio) · 1(passed)] over the hero channel and u must be exp(−σt d)
+        // per channel.
         let m = Homogeneous {
             sigma_a: Rgb::new(0.2, 0.5, 1.5),
             sigma_s: Rgb::new(0.3, 0.1, 0.0),
@@ -96,11 +139,10 @@ mod tests {
         let n = 3000;
         let mut sum = Rgb::ZERO;
         for i in 0..n {
-            for c in 0..3 {
-                let f =
-                    m.sample_free_flight(d, (c as f32 + 0.5) / 3.0, (i as f32 + 0.5) / n as f32);
+            for hero in 0..3 {
+                let f = m.sample_free_flight(d, hero, (i as f32 + 0.5) / n as f32);
                 if !f.scattered {
-                    sum += f.weight;
+                    sum += f.weight / ((f.ratio.x + f.ratio.y + f.ratio.z) / 3.0);
                 }
             }
         }

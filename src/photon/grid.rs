@@ -18,6 +18,13 @@ pub trait Located: Copy + Default {
     fn location(&self) -> Vec3;
 }
 
+impl Located for super::VolumePhoton {
+    #[inline]
+    fn location(&self) -> Vec3 {
+        self.position
+    }
+}
+
 impl Located for Photon {
     #[inline]
     fn location(&self) -> Vec3 {

@@ -18,7 +18,8 @@ mod trace;
 pub use cache::{IrradianceCache, is_cache_site};
 pub use estimate::{GatherParams, Kernel};
 pub use map::{MapKind, PhotonMap};
-pub use record::{Channel, PassPhoton, Photon, decode_octahedral, encode_octahedral};
+pub use record::{Channel, PassPhoton, Photon, VolumePhoton, decode_octahedral, encode_octahedral};
 pub use trace::{
-    MAX_PHOTONS, PhotonConfig, PhotonMaps, TraceStats, trace_indirect_photons, trace_photons,
+    MAX_PHOTONS, PassPhotons, PhotonConfig, PhotonMaps, TraceStats, trace_indirect_photons,
+    trace_photons,
 };

@@ -15,6 +15,7 @@
 //! irradiance be precomputed at photon positions.
 
 use crate::math::{Rgb, Vec2, Vec3};
+use crate::medium::MediumId;
 use bytemuck::{Pod, Zeroable};
 use half::f16;
 
@@ -62,6 +63,18 @@ impl Channel {
             Channel::Blue => 3,
         }
     }
+}
+
+/// A progressive pass's photon at a scattering point in a medium: where, from which way,
+/// with what power, in which medium (an estimate counts only its own medium's photons).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VolumePhoton {
+    pub position: Vec3,
+    /// Unit direction toward where the photon came from.
+    pub incoming: Vec3,
+    /// Power relative to the pass's scale, σs of the scattering included.
+    pub power: Rgb,
+    pub medium: MediumId,
 }
 
 /// A progressive pass's photon, at full precision for the pass's own gathers (48 bytes, never

@@ -2,13 +2,14 @@
 //! scattering (Jensen 2001, ch. 5), in parallel and deterministic.
 
 use super::map::{MapKind, PhotonMap};
-use super::record::{Channel, PassPhoton, Photon};
+use super::record::{Channel, PassPhoton, Photon, VolumePhoton};
 use crate::error::{Error, Result};
 use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, Vec2, Vec3, offset_origin};
+use crate::medium::{MediumId, hero_channel, spectral_mis};
 use crate::sampling::halton::ShiftedHalton;
 use crate::sampling::{Distribution1D, Rng};
-use crate::scene::Scene;
+use crate::scene::{Interaction, Scene};
 use rayon::prelude::*;
 
 /// Parameters of one photon trace.
@@ -124,16 +125,24 @@ pub fn light_choice(scene: &Scene, channel: Channel) -> Option<Distribution1D> {
     Distribution1D::new(&weights)
 }
 
+/// What a progressive pass gathers: the photons that did not come straight from a light (its
+/// direct light is next-event estimated) on surfaces and in media, in photon order, and the
+/// scale that turns their relative powers into watts (Φ_max / N).
+#[derive(Clone, Debug, Default)]
+pub struct PassPhotons {
+    pub surface: Vec<PassPhoton>,
+    pub volume: Vec<VolumePhoton>,
+    pub scale: f32,
+}
+
 /// Trace `photons` RGB photon paths with the random streams of [`trace_photons`] (photon `i`
-/// keyed by (seed, 0, i)) and keep the photons that did not come straight from a light, in
-/// photon order: what a progressive pass gathers (its direct light is next-event estimated).
-/// Returns them and the scale that turns their relative powers into watts (Φ_max / N).
+/// keyed by (seed, 0, i)) and keep what a progressive pass gathers ([`PassPhotons`]).
 pub fn trace_indirect_photons(
     scene: &Scene,
     photons: u64,
     seed: u64,
     max_depth: u32,
-) -> Result<(Vec<PassPhoton>, f32)> {
+) -> Result<PassPhotons> {
     let total_max = scene.total_power().max_element();
     let choice = light_choice(scene, Channel::Rgb).filter(|_| total_max > 0.0);
     let Some(choice) = choice else {
@@ -148,27 +157,41 @@ pub fn trace_indirect_photons(
         total_max,
     };
     let emission = emission_points(seed, 0);
-    let chunks: Vec<Vec<PassPhoton>> = (0..photons.div_ceil(CHUNK))
+    let chunks: Vec<(Vec<PassPhoton>, Vec<VolumePhoton>)> = (0..photons.div_ceil(CHUNK))
         .into_par_iter()
         .map(|k| {
-            let mut out = Vec::new();
+            let (mut surface, mut volume) = (Vec::new(), Vec::new());
             for i in k * CHUNK..((k + 1) * CHUNK).min(photons) {
                 let mut rng = Rng::keyed(seed, &[0, i]);
                 trace_path(&ctx, emission.point(i), &mut rng, &mut |v| {
-                    if v.depth > 1 {
-                        out.push(PassPhoton {
+                    if v.depth <= 1 {
+                        return;
+                    }
+                    match v.medium {
+                        Some(medium) => volume.push(VolumePhoton {
+                            position: v.p,
+                            incoming: v.wo,
+                            power: v.power,
+                            medium,
+                        }),
+                        None => surface.push(PassPhoton {
                             position: v.p,
                             normal: v.n,
                             incoming: v.wo,
                             power: v.power,
-                        });
+                        }),
                     }
                 });
             }
-            out
+            (surface, volume)
         })
         .collect();
-    Ok((chunks.concat(), total_max / photons as f32))
+    let (surface, volume): (Vec<_>, Vec<_>) = chunks.into_iter().unzip();
+    Ok(PassPhotons {
+        surface: surface.concat(),
+        volume: volume.concat(),
+        scale: total_max / photons as f32,
+    })
 }
 
 /// The emission points of a progressive pass's photons: photon `i` leaves its light at
@@ -226,6 +249,11 @@ pub fn trace_photons(
     if lights.is_empty() || total_max.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::InvalidScene(NO_LIGHT.into()));
     }
+    if scene.has_media() {
+        return Err(Error::InvalidScene(
+            "the scene has participating media, which photon maps do not hold: render it with sppm or ppm (or path)".into(),
+        ));
+    }
     let chunks_per_channel = config.photons.div_ceil(CHUNK);
     let total_chunks = chunks_per_channel * channels.len() as u64;
     let done = std::sync::atomic::AtomicU64::new(0);
@@ -258,7 +286,9 @@ pub fn trace_photons(
                     let store_global = i < global_photons;
                     let emission = random_emission(&mut rng);
                     trace_path(&ctx, emission, &mut rng, &mut |v| {
-                        store(v, channel, store_global, &mut out);
+                        if v.medium.is_none() {
+                            store(v, channel, store_global, &mut out);
+                        }
                     });
                 }
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
@@ -314,6 +344,8 @@ struct PathVertex {
     specular_only: bool,
     /// The last scattering before this hit was by a smooth lobe (false for direct photons).
     smooth_last: bool,
+    /// The medium of a scattering point in a medium (then `n` is zero); `None` on surfaces.
+    medium: Option<MediumId>,
 }
 
 /// What a photon path depends on besides its random numbers.
@@ -360,9 +392,52 @@ fn trace_path(
     let mut ray = Ray::new(origin, e.dir);
     let mut specular_only = true;
     let mut smooth_last = false;
+    let mut medium = scene.atmosphere();
+    // Spectral MIS in media (see `crate::medium`): an RGB photon draws its distances with a
+    // hero channel; a photon of one channel with its own.
+    let hero = match ctx.channel.index() {
+        Some(c) => c,
+        None if scene.has_media() => hero_channel(rng.next_f32()),
+        None => 0,
+    };
+    let mut ratio = Rgb::ONE;
     for depth in 1..=ctx.max_depth {
-        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-            return;
+        let step = scene.next_interaction(&ray, medium, hero, rng);
+        power *= step.weight;
+        ratio *= step.ratio;
+        let mis = match ctx.channel.index() {
+            Some(_) => 1.0,
+            None => spectral_mis(ratio),
+        };
+        let (hit, reached_through) = match step.interaction {
+            Interaction::Escaped => return,
+            Interaction::Scatter { p, medium: m } => {
+                let wo = -ray.dir;
+                visit(&PathVertex {
+                    p,
+                    n: Vec3::ZERO,
+                    wo,
+                    power: power * mis,
+                    depth,
+                    specular_only,
+                    smooth_last,
+                    medium: Some(m),
+                });
+                // The free flight's weight (σs·Tr over its density) is in `power`; the
+                // photon goes on with the probability of its largest channel's share.
+                let survive = (step.weight.max_element() * mis).min(1.0);
+                if depth == ctx.max_depth || survive <= 0.0 || rng.next_f32() >= survive {
+                    return;
+                }
+                power /= survive;
+                let s = scene.medium(m).phase.sample(wo, rng.next_2d());
+                specular_only = false;
+                smooth_last = false;
+                medium = Some(m);
+                ray = Ray::new(p, s.wi);
+                continue;
+            }
+            Interaction::Surface { hit, medium } => (hit, medium),
         };
         let wo = -ray.dir;
         let (material, frame) = scene.surface(&hit, wo);
@@ -373,10 +448,11 @@ fn trace_path(
                 p: hit.p,
                 n: ng,
                 wo,
-                power: power * arrival.reflected_ratio(),
+                power: power * mis * arrival.reflected_ratio(),
                 depth,
                 specular_only,
                 smooth_last,
+                medium: None,
             });
         }
         if depth == ctx.max_depth {
@@ -410,6 +486,7 @@ fn trace_path(
         }
         smooth_last = material.is_smooth_lobe(s.lobe);
         specular_only &= smooth_last;
+        medium = scene.medium_after(&hit, reached_through, wi);
         ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
     }
 }

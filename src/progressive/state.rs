@@ -2,12 +2,12 @@ use super::pixels::{Pixels, add_finite, sppm_update};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter};
-use crate::integrator::{RayStats, VisiblePoint, trace_camera_path};
+use crate::integrator::{RayStats, VisiblePoint, VolumePoint, trace_camera_path};
 use crate::material::{Part, TransportMode};
 use crate::math::{Rgb, Vec2, surface_epsilon};
 use crate::photon::estimate::{EXACT_NORMAL_ERROR, disc_distance2};
 use crate::photon::grid::{PhotonGrid, QueryScratch};
-use crate::photon::{PassPhoton, trace_indirect_photons};
+use crate::photon::{PassPhoton, VolumePhoton, trace_indirect_photons};
 use crate::sampling::halton::{PassJitter, Prefixed};
 use crate::sampling::{Rng, mix64};
 use crate::scene::Scene;
@@ -208,6 +208,13 @@ impl ProgressiveState {
                 .unwrap_or(c.method.footprint_pixels() * footprint * vp.distance)
         };
         let ppm_r_scale = ppm_radius_scale(pass, c.alpha);
+        // Volume points gather in balls whose radius follows the PPM schedule in three
+        // dimensions for either method (see `volume_radius_scale`).
+        let volume_r_scale = volume_radius_scale(pass, c.alpha);
+        let volume_r0 = |distance: f32| {
+            c.initial_radius
+                .unwrap_or(c.method.footprint_pixels() * footprint * distance)
+        };
         let jitter = PassJitter::new(c.seed, pass);
         let stopped = || cancel.load(Ordering::Relaxed);
         let start = Instant::now();
@@ -230,6 +237,10 @@ impl ProgressiveState {
                 &mut sampler,
                 stats,
             );
+            let volume = path.volume.map(|vp| VolumeSlot {
+                r: volume_r0(vp.distance) * volume_r_scale,
+                vp,
+            });
             let point = path.visible.map(|vp| {
                 let r2 = match c.method {
                     Method::Sppm if sppm[pixel].r2 > 0.0 => sppm[pixel].r2 as f32,
@@ -244,6 +255,7 @@ impl ProgressiveState {
             PassSlot {
                 direct: path.direct,
                 point,
+                volume,
                 ..PassSlot::default()
             }
         });
@@ -379,8 +391,15 @@ impl ProgressiveState {
 }
 
 /// Bytes of a pixel's slot, for the memory check.
-const SLOT_BYTES: u64 = 184;
+const SLOT_BYTES: u64 = 240;
 const _: () = assert!(std::mem::size_of::<PassSlot>() as u64 <= SLOT_BYTES);
+
+/// A pixel's point in a medium in this pass and its gather radius.
+#[derive(Clone, Copy, Debug)]
+struct VolumeSlot {
+    vp: VolumePoint,
+    r: f32,
+}
 
 /// A pixel's visible point in this pass and its squared gather radius.
 #[derive(Clone, Copy, Debug)]
@@ -395,6 +414,8 @@ struct PassSlot {
     /// The camera path's light (emission seen, next-event estimation).
     direct: Rgb,
     point: Option<PassPoint>,
+    /// Where the camera path stopped in a medium instead; its gather is added to `direct`.
+    volume: Option<VolumeSlot>,
     /// The gather at `point`: Σ f·ΔΦ in watts and the photon count.
     phi: [f64; 3],
     m: u32,
@@ -442,15 +463,30 @@ fn photons_and_gather(
         return Ok((0, start.elapsed()));
     }
     let seed = mix64(c.seed ^ mix64(pass.wrapping_add(0x5eed)));
-    let (photons, scale) =
-        trace_indirect_photons(scene, c.photons_per_pass, seed, PHOTON_MAX_DEPTH)?;
+    let photons = trace_indirect_photons(scene, c.photons_per_pass, seed, PHOTON_MAX_DEPTH)?;
     if stopped() {
         return Ok((0, start.elapsed()));
     }
-    let stored = photons.len() as u64;
-    let grid = PhotonGrid::build(photons, GRID_CELL_RADII * median_radius(slots));
+    let stored = (photons.surface.len() + photons.volume.len()) as u64;
+    let grid = PhotonGrid::build(photons.surface, GRID_CELL_RADII * median_radius(slots));
+    let volume_grid = (!photons.volume.is_empty()).then(|| {
+        PhotonGrid::build(
+            photons.volume,
+            GRID_CELL_RADII * median_volume_radius(slots),
+        )
+    });
     let done = start.elapsed();
-    gather(slots, c.width as usize, &grid, scale, stopped);
+    gather(slots, c.width as usize, &grid, photons.scale, stopped);
+    if let Some(volume_grid) = &volume_grid {
+        gather_volume(
+            scene,
+            slots,
+            c.width as usize,
+            volume_grid,
+            photons.scale,
+            stopped,
+        );
+    }
     Ok((stored, done))
 }
 
@@ -486,6 +522,67 @@ fn gather(
                 slot.m = m;
             }
         });
+}
+
+/// Add every slot's in-scattered light from the photons in the ball of its volume point: the
+/// volume radiance estimate (Jensen and Christensen 1998), Σ p(wo, wi) ΔΦ / (σs · 4/3 π r³)
+/// over the photons of the point's medium, times the path's throughput (whose σs it divides
+/// out: photon powers and the path both carry one). Rows not started when `stopped()` are
+/// skipped.
+fn gather_volume(
+    scene: &Scene,
+    slots: &mut [PassSlot],
+    width: usize,
+    grid: &PhotonGrid<VolumePhoton>,
+    scale: f32,
+    stopped: &(impl Fn() -> bool + Sync),
+) {
+    slots
+        .par_chunks_mut(width)
+        .for_each_init(QueryScratch::default, |scratch, row| {
+            if stopped() {
+                return;
+            }
+            for slot in row {
+                let Some(v) = &slot.volume else {
+                    continue;
+                };
+                let medium = scene.medium(v.vp.medium);
+                let mut sum = Rgb::ZERO;
+                grid.for_each_within(v.vp.p, v.r, scratch, &mut |ph, _| {
+                    if ph.medium == v.vp.medium {
+                        sum += ph.power * medium.phase.eval(v.vp.wo, ph.incoming);
+                    }
+                });
+                let volume = 4.0 / 3.0 * PI * f64::from(v.r).powi(3);
+                let per_sigma = |x: f32, sigma_s: f32| {
+                    if sigma_s > 0.0 {
+                        (f64::from(x) * f64::from(scale) / (f64::from(sigma_s) * volume)) as f32
+                    } else {
+                        0.0
+                    }
+                };
+                let estimate = Rgb::new(
+                    per_sigma(sum.x, medium.sigma_s.x),
+                    per_sigma(sum.y, medium.sigma_s.y),
+                    per_sigma(sum.z, medium.sigma_s.z),
+                );
+                let l = v.vp.beta * estimate;
+                if l.is_finite() {
+                    slot.direct += l;
+                }
+            }
+        });
+}
+
+/// Median gather radius of a pass's volume points (0 with none).
+fn median_volume_radius(slots: &[PassSlot]) -> f32 {
+    let mut r: Vec<f32> = slots.iter().filter_map(|s| s.volume).map(|v| v.r).collect();
+    if r.is_empty() {
+        return 0.0;
+    }
+    let mid = r.len() / 2;
+    *r.select_nth_unstable_by(mid, f32::total_cmp).1
 }
 
 /// Median gather radius of a pass's points (0 with none).
@@ -540,6 +637,17 @@ pub fn ppm_radius_scale(pass: u64, alpha: f64) -> f32 {
         r2 *= (i as f64 + alpha) / (i as f64 + 1.0);
     }
     r2.sqrt() as f32
+}
+
+/// r_p / r_0 of a volume point's ball for pass p (0-based): r_{i+1}³ = r_i³ (i + α)/(i + 1),
+/// the radius sequence of progressive photon mapping for three-dimensional kernels (Knaus and
+/// Zwicker 2011, §4.3: the kernel's volume shrinks as the disc's area does on surfaces).
+pub fn volume_radius_scale(pass: u64, alpha: f64) -> f32 {
+    let mut r3 = 1.0f64;
+    for i in 1..=pass {
+        r3 *= (i as f64 + alpha) / (i as f64 + 1.0);
+    }
+    r3.cbrt() as f32
 }
 
 fn camera_ray(

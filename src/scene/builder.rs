@@ -6,6 +6,7 @@ use crate::geometry::{Disk, Shape, Sphere, Triangle};
 use crate::light::{AreaLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
 use crate::material::{Attenuation, Material};
 use crate::math::{Rgb, Vec2, Vec3};
+use crate::medium::{Boundary, Homogeneous, MediumId};
 use crate::sampling::Distribution1D;
 use crate::texture::{MappedTexture, Texture, UvMapping};
 use glam::Affine3A;
@@ -38,6 +39,8 @@ struct Object {
     tangents: Option<Vec<[glam::Vec4; 3]>>,
     material: u32,
     emission: Option<Emission>,
+    /// The media this object separates, if it is a boundary.
+    boundary: Option<Boundary>,
 }
 
 /// The textures a material may carry (see [`SceneBuilder::material_with_maps`]), each with
@@ -67,6 +70,8 @@ pub struct SceneBuilder {
     camera: Option<CameraDesc>,
     resolution: (u32, u32),
     ray_engine: RayEngine,
+    media: Vec<Homogeneous>,
+    atmosphere: Option<MediumId>,
 }
 
 impl SceneBuilder {
@@ -81,7 +86,30 @@ impl SceneBuilder {
             camera: None,
             resolution: (512, 512),
             ray_engine: RayEngine::Best,
+            media: Vec::new(),
+            atmosphere: None,
         }
+    }
+
+    /// Add a participating medium; returns its id for boundaries and the atmosphere.
+    pub fn medium(&mut self, m: Homogeneous) -> MediumId {
+        self.media.push(m);
+        (self.media.len() - 1) as MediumId
+    }
+
+    /// The medium around every shape, where the camera and the lights are (vacuum unless set).
+    pub fn atmosphere(&mut self, m: Option<MediumId>) -> &mut Self {
+        self.atmosphere = m;
+        self
+    }
+
+    /// Make the objects added since `first` (see [`SceneBuilder::object_count`]) a boundary
+    /// between media.
+    pub fn bound_objects_from(&mut self, first: usize, boundary: Boundary) -> &mut Self {
+        for o in self.objects.iter_mut().skip(first) {
+            o.boundary = Some(boundary);
+        }
+        self
     }
 
     /// The ray caster to build (the best compiled in unless set). Building with
@@ -196,6 +224,7 @@ impl SceneBuilder {
             tangents: None,
             material,
             emission,
+            boundary: None,
         });
     }
 
@@ -352,6 +381,7 @@ impl SceneBuilder {
             tangents: (!tangents.is_empty()).then_some(tangents),
             material,
             emission,
+            boundary: None,
         });
         Ok(self)
     }
@@ -388,6 +418,7 @@ impl SceneBuilder {
             tangents: None,
             material,
             emission,
+            boundary: None,
         });
         self
     }
@@ -476,6 +507,25 @@ impl SceneBuilder {
         let mut vertex_uvs = Vec::new();
         let mut prim_tangents = Vec::new();
         let mut vertex_tangents = Vec::new();
+        let mut prim_boundary = Vec::new();
+        let any_boundary = self.objects.iter().any(|o| o.boundary.is_some());
+        let media_count = self.media.len();
+        let known = |m: Option<MediumId>| m.is_none_or(|m| (m as usize) < media_count);
+        if !known(self.atmosphere) {
+            return invalid("the scene's medium does not exist".into());
+        }
+        for (i, m) in self.media.iter().enumerate() {
+            let coefficients = [m.sigma_a, m.sigma_s];
+            if !coefficients
+                .iter()
+                .all(|c| c.is_finite() && c.min_element() >= 0.0)
+            {
+                return invalid(format!(
+                    "medium {i} has σa {} and σs {}: both must be finite and not negative",
+                    m.sigma_a, m.sigma_s
+                ));
+            }
+        }
         let mut lights = self.lights;
         for (i, o) in self.objects.into_iter().enumerate() {
             let object_error = |message: String| Err(Error::InvalidObject { index: i, message });
@@ -529,7 +579,15 @@ impl SceneBuilder {
                 }
                 _ => NO_LIGHT,
             };
+            if let Some(b) = o.boundary
+                && !(known(b.inside) && known(b.outside))
+            {
+                return object_error("bounds a medium that does not exist".into());
+            }
             for (k, s) in o.shapes.into_iter().enumerate() {
+                if any_boundary {
+                    prim_boundary.push(o.boundary.unwrap_or_default());
+                }
                 shapes.push(s);
                 prim_material.push(o.material);
                 prim_light.push(light);
@@ -579,6 +637,10 @@ impl SceneBuilder {
         let prim_uvs = reorder(&prim_uvs);
         let prim_second_uvs = reorder(&prim_second_uvs);
         let prim_tangents = reorder(&prim_tangents);
+        let prim_boundary: Vec<Boundary> = order
+            .iter()
+            .filter_map(|&i| prim_boundary.get(i as usize).copied())
+            .collect();
         let shapes = order.iter().map(|&i| shapes[i as usize]).collect();
         check_light_powers(&lights)?;
         let powers: Vec<f64> = lights
@@ -615,6 +677,9 @@ impl SceneBuilder {
             default_resolution: self.resolution,
             rays,
             content_hash: std::sync::OnceLock::new(),
+            media: self.media,
+            prim_boundary,
+            atmosphere: self.atmosphere,
         };
         scene.aim_distant_lights_at_view();
         Ok(scene)

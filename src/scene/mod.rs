@@ -4,9 +4,11 @@
 //! it cannot fail.
 
 mod builder;
+mod media;
 mod rays;
 
 pub use builder::{Emission, SceneBuilder, TextureMaps};
+pub use media::{Interaction, Step};
 
 /// An indexed triangle mesh in object space, as read from a file or built in code. `normals`,
 /// `uvs`, `second_uvs` and `tangents` are per vertex and may be empty (flat shading, the
@@ -135,6 +137,13 @@ pub struct Scene {
     has_partial_coverage: bool,
     lights: Vec<Light>,
     light_choice: Option<Distribution1D>,
+    /// The participating media, indexed by [`crate::medium::MediumId`].
+    media: Vec<crate::medium::Homogeneous>,
+    /// The boundary each primitive is part of (the default, none, on the others); empty when
+    /// no shape bounds a medium.
+    prim_boundary: Vec<crate::medium::Boundary>,
+    /// The medium around every shape, where the camera is (`None`: vacuum).
+    atmosphere: Option<crate::medium::MediumId>,
     pub camera: CameraDesc,
     /// Index of the environment light among `lights`, if there is one.
     environment: Option<usize>,
@@ -495,6 +504,10 @@ impl Scene {
         }
         for uv in &self.vertex_uvs {
             h.write(format!("{uv:?}").as_bytes());
+        }
+        if self.has_media() {
+            let media = (&self.media, &self.prim_boundary, self.atmosphere);
+            h.write(format!("{media:?}").as_bytes());
         }
         for l in &self.lights {
             h.write(format!("{:?}", l.power()).as_bytes());

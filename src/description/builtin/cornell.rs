@@ -169,6 +169,7 @@ pub fn desc() -> SceneDesc {
     d.shape(sphere(Vec3::new(0.3685, 0.41, 0.35125)), &mirror);
     d.lights.push(LightSpec::Area(Box::new(ShapeSpec {
         kind: quad(&LIGHT),
+        media: None,
         material: None,
         transform: Vec::new(),
         emission: Some(EmissionSpec::Radiance {

@@ -145,6 +145,7 @@ pub fn desc() -> SceneDesc {
             normal: -Vec3::Z,
             radius: 1.0,
         },
+        media: None,
         material: None,
         transform: Vec::new(),
         emission: Some(EmissionSpec::Power {

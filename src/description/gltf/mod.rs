@@ -175,6 +175,7 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
             file: PathBuf::from(path.file_name().unwrap_or_default()),
             smooth: true,
         },
+        media: None,
         material: None,
         transform: Vec::new(),
         emission: None,

@@ -5,6 +5,7 @@
 //! get the nearest valid key as a suggestion, and referenced files are checked while their
 //! span is still at hand.
 
+mod media;
 mod scene;
 mod shapes;
 mod values;
@@ -61,7 +62,16 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
     };
     let root = Table::new(&cx, doc.get_ref(), doc.span(), "the scene file");
     let mut origins = Origins::in_file(path, text);
-    root.allow(&["name", "camera", "render", "materials", "shapes", "lights"])?;
+    root.allow(&[
+        "name",
+        "medium",
+        "camera",
+        "render",
+        "materials",
+        "media",
+        "shapes",
+        "lights",
+    ])?;
     let name = match root.opt_str("name")? {
         Some(n) => n.to_owned(),
         None => path
@@ -97,6 +107,23 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
         }
     }
     let names: Vec<&str> = materials.iter().map(|(n, _)| n.as_str()).collect();
+    let mut media = Vec::new();
+    if let Some(v) = root.get("media") {
+        let t = cx.table(v, "[media]")?;
+        for (key, value) in t.map.iter() {
+            let what = format!("medium '{}'", key.get_ref());
+            media.push((
+                key.get_ref().to_string(),
+                media::medium(&cx.table(value, &what)?)?,
+            ));
+        }
+    }
+    let medium_names: Vec<&str> = media.iter().map(|(n, _)| n.as_str()).collect();
+    let medium = root.name_ref("medium", &medium_names, "medium", "[media]")?;
+    let names = shapes::Names {
+        materials: &names,
+        media: &medium_names,
+    };
     let mut shapes = Vec::new();
     for (i, v) in root.array_of_tables("shapes")?.into_iter().enumerate() {
         let t = cx.table(v, &format!("shape {}", i + 1))?;
@@ -106,7 +133,7 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
     let mut lights = Vec::new();
     for (i, v) in root.array_of_tables("lights")?.into_iter().enumerate() {
         let t = cx.table(v, &format!("light {}", i + 1))?;
-        let l = light(&t, &names)?;
+        let l = light(&t, names.materials)?;
         origins.push_light(t.span.clone());
         if matches!(l, LightSpec::Environment(_))
             && lights
@@ -127,6 +154,8 @@ pub fn read_str(text: &str, path: &Path, base_dir: &Path) -> Result<SceneDesc> {
         materials,
         shapes,
         lights,
+        media,
+        medium,
         base_dir: base_dir.to_owned(),
         origins,
         default_sky_warning: None,

@@ -27,7 +27,13 @@ pub(super) fn shape_keys(kind: &str) -> &'static [&'static str] {
     }
 }
 
-pub(super) fn shape(t: &Table, names: &[&str], is_light: bool) -> Result<ShapeSpec> {
+/// The names a shape may refer to: the file's materials and media.
+pub(super) struct Names<'a> {
+    pub materials: &'a [&'a str],
+    pub media: &'a [&'a str],
+}
+
+pub(super) fn shape(t: &Table, names: &Names, is_light: bool) -> Result<ShapeSpec> {
     let kind_name = t.req_str("type")?;
     if !SHAPE_TYPES.contains(&kind_name) {
         let mut all = SHAPE_TYPES.to_vec();
@@ -40,7 +46,7 @@ pub(super) fn shape(t: &Table, names: &[&str], is_light: bool) -> Result<ShapeSp
     if is_light {
         allowed.extend(["radiance", "power", "two_sided", "texture"]);
     } else {
-        allowed.push("emission");
+        allowed.extend(["emission", "interior", "exterior"]);
     }
     allowed.extend_from_slice(shape_keys(kind_name));
     t.allow(&allowed)?;
@@ -85,11 +91,12 @@ pub(super) fn shape(t: &Table, names: &[&str], is_light: bool) -> Result<ShapeSp
         _ => ShapeKind::Pot {
             subdivisions: t.opt_int("subdivisions", 4)?.unwrap_or(2) as u32,
             seed: t.opt_int("seed", i64::MAX as u64)?.unwrap_or(0),
-            soil_material: t.material_ref("soil_material", names)?,
-            leaf_material: t.material_ref("leaf_material", names)?,
+            soil_material: t.material_ref("soil_material", names.materials)?,
+            leaf_material: t.material_ref("leaf_material", names.materials)?,
         },
     };
-    let material = t.material_ref("material", names)?;
+    let material = t.material_ref("material", names.materials)?;
+    let media = super::media::sides(t, names.media)?;
     let emission = if is_light {
         Some(emission(t)?)
     } else {
@@ -102,12 +109,18 @@ pub(super) fn shape(t: &Table, names: &[&str], is_light: bool) -> Result<ShapeSp
             None => None,
         }
     };
-    let needs_material =
-        !is_light && emission.is_none() && !matches!(kind, ShapeKind::MeshFile { .. });
+    let invisible_boundary = media.as_ref().is_some_and(|m| m.interior.is_some());
+    let needs_material = !is_light
+        && emission.is_none()
+        && !invisible_boundary
+        && !matches!(kind, ShapeKind::MeshFile { .. });
     if needs_material && material.is_none() {
         return Err(t.cx.err(
             t.span.start..t.span.start + 1,
-            format!("{} needs a 'material'", t.what),
+            format!(
+                "{} needs a 'material' (or an 'interior' medium, to be an invisible boundary)",
+                t.what
+            ),
         ));
     }
     let transform = match t.get("transform") {
@@ -119,6 +132,7 @@ pub(super) fn shape(t: &Table, names: &[&str], is_light: bool) -> Result<ShapeSp
         material,
         transform,
         emission,
+        media,
     })
 }
 
@@ -383,7 +397,13 @@ pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
             })
         }
         "environment" => environment(t),
-        _ => Ok(LightSpec::Area(Box::new(shape(t, names, true)?))),
+        _ => {
+            let names = Names {
+                materials: names,
+                media: &[],
+            };
+            Ok(LightSpec::Area(Box::new(shape(t, &names, true)?)))
+        }
     }
 }
 

@@ -314,6 +314,18 @@ impl<'t, 'i> Table<'t, 'i> {
 
     /// A material name that must be defined in `[materials]`.
     pub(super) fn material_ref(&self, key: &str, names: &[&str]) -> Result<Option<String>> {
+        self.name_ref(key, names, "material", "[materials]")
+    }
+
+    /// A name at `key` that must be one of `names`, the things of `kind` the file defines in
+    /// its `table`.
+    pub(super) fn name_ref(
+        &self,
+        key: &str,
+        names: &[&str],
+        kind: &str,
+        table: &str,
+    ) -> Result<Option<String>> {
         let Some(v) = self.get(key) else {
             return Ok(None);
         };
@@ -321,12 +333,12 @@ impl<'t, 'i> Table<'t, 'i> {
         if !names.contains(&name) {
             let hint = match nearest(name, names) {
                 Some(n) => format!("; did you mean '{n}'?"),
-                None if names.is_empty() => "; the file defines no [materials]".into(),
+                None if names.is_empty() => format!("; the file defines no {table}"),
                 None => format!(" (defined: {})", names.join(", ")),
             };
             return Err(self.cx.err(
                 v.span(),
-                format!("material '{name}' is not defined in [materials]{hint}"),
+                format!("{kind} '{name}' is not defined in {table}{hint}"),
             ));
         }
         Ok(Some(name.to_owned()))

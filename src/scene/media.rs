@@ -1,0 +1,188 @@
+//! Rays through participating media: which medium a ray is in, what it meets next (a
+//! scattering point in a medium or a surface, past the invisible boundaries between media),
+//! and the transmittance of a shadow ray.
+//!
+//! A path carries the medium it is in. It starts in the scene's atmosphere (camera, point and
+//! spot lights sit there); crossing a [`Boundary`] puts it in the medium on the side it goes to,
+//! and any other surface leaves it where it was (pbrt-v4's rule, also Mitsuba 3's `volpath`).
+
+use super::Scene;
+use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::medium::{Boundary, Homogeneous, MediumId};
+use crate::sampling::Sampler;
+
+use super::Hit;
+
+/// How many invisible boundaries one ray may cross before it is taken as lost: a bound on
+/// the work of a ray that grazes along a boundary's seam.
+const MAX_CROSSINGS: u32 = 64;
+
+/// What a ray meets next.
+#[derive(Clone, Copy, Debug)]
+pub enum Interaction {
+    /// A surface that is there, reached through `medium` (the medium on the side the ray came
+    /// from).
+    Surface { hit: Hit, medium: Option<MediumId> },
+    /// A scattering point at `p` in `medium`.
+    Scatter { p: Vec3, medium: MediumId },
+    /// Nothing: the ray left the scene.
+    Escaped,
+}
+
+/// [`Interaction`] with the factor the path's throughput takes on the way: transmittance
+/// over the density of the distance chosen, times σs at a scattering point (see
+/// [`Homogeneous::sample_free_flight`]), and each channel's density of the distances chosen
+/// over the hero channel's, `ratio` (both exactly one in vacuum). `crossings` counts the
+/// boundaries crossed, each one more ray traced.
+#[derive(Clone, Copy, Debug)]
+pub struct Step {
+    pub interaction: Interaction,
+    pub weight: Rgb,
+    pub ratio: Rgb,
+    pub crossings: u32,
+}
+
+impl Scene {
+    /// Whether the scene has any medium or boundary: only then do rays need more than
+    /// [`Scene::intersect`] and [`Scene::occluded`].
+    #[inline]
+    pub fn has_media(&self) -> bool {
+        !self.media.is_empty() || !self.prim_boundary.is_empty()
+    }
+
+    /// The medium that fills the scene around its shapes, where the camera and the point,
+    /// spot and distant lights are.
+    pub fn atmosphere(&self) -> Option<MediumId> {
+        self.atmosphere
+    }
+
+    pub fn medium(&self, id: MediumId) -> &Homogeneous {
+        &self.media[id as usize]
+    }
+
+    pub fn media(&self) -> &[Homogeneous] {
+        &self.media
+    }
+
+    /// The boundary a primitive is part of, if any.
+    #[inline]
+    pub fn boundary(&self, prim: u32) -> Option<&Boundary> {
+        self.prim_boundary
+            .get(prim as usize)
+            .filter(|b| b.inside.is_some() || b.outside.is_some() || b.invisible)
+    }
+
+    /// Whether a hit is on an invisible boundary, which rays cross unchanged.
+    #[inline]
+    pub fn is_invisible(&self, hit: &Hit) -> bool {
+        self.boundary(hit.prim).is_some_and(|b| b.invisible)
+    }
+
+    /// The medium a ray leaving `hit` in direction `w` is in, for a path that reached the hit
+    /// through `current`.
+    #[inline]
+    pub fn medium_after(&self, hit: &Hit, current: Option<MediumId>, w: Vec3) -> Option<MediumId> {
+        match self.boundary(hit.prim) {
+            Some(b) if w.dot(hit.ng) > 0.0 => b.outside,
+            Some(b) => b.inside,
+            None => current,
+        }
+    }
+
+    /// The next interaction along `ray`, which starts in `medium`: a distance is sampled in
+    /// each medium crossed with the path's `hero` channel (media that only absorb take their
+    /// transmittance instead), and invisible boundaries are crossed.
+    pub fn next_interaction(
+        &self,
+        ray: &Ray,
+        mut medium: Option<MediumId>,
+        hero: usize,
+        sampler: &mut impl Sampler,
+    ) -> Step {
+        let mut weight = Rgb::ONE;
+        let mut ratio = Rgb::ONE;
+        let mut ray = *ray;
+        for crossings in 0..=MAX_CROSSINGS {
+            let hit = self.intersect(&ray, f32::INFINITY);
+            if let Some(id) = medium {
+                let m = self.medium(id);
+                let t_max = hit.map_or(f32::INFINITY, |h| h.t);
+                if m.scatters() {
+                    let flight = m.sample_free_flight(t_max, hero, sampler.next_f32());
+                    weight *= flight.weight;
+                    ratio *= flight.ratio;
+                    if flight.scattered {
+                        return Step {
+                            interaction: Interaction::Scatter {
+                                p: ray.at(flight.t),
+                                medium: id,
+                            },
+                            weight,
+                            ratio,
+                            crossings,
+                        };
+                    }
+                } else {
+                    weight *= m.transmittance(t_max);
+                }
+            }
+            let Some(hit) = hit else {
+                return Step {
+                    interaction: Interaction::Escaped,
+                    weight,
+                    ratio,
+                    crossings,
+                };
+            };
+            if !self.is_invisible(&hit) {
+                return Step {
+                    interaction: Interaction::Surface { hit, medium },
+                    weight,
+                    ratio,
+                    crossings,
+                };
+            }
+            medium = self.medium_after(&hit, medium, ray.dir);
+            ray = Ray::new(offset_origin(hit.p, hit.ng, ray.dir), ray.dir);
+        }
+        Step {
+            interaction: Interaction::Escaped,
+            weight: Rgb::ZERO,
+            ratio: Rgb::ONE,
+            crossings: MAX_CROSSINGS,
+        }
+    }
+
+    /// The fraction of light that travels from `origin`, in `medium`, to `target`: zero if a
+    /// surface is in the way, else the product of the media's transmittances over the
+    /// segments between the invisible boundaries crossed.
+    pub fn transmittance(&self, origin: Vec3, target: Vec3, mut medium: Option<MediumId>) -> Rgb {
+        let mut tr = Rgb::ONE;
+        let mut from = origin;
+        for _ in 0..=MAX_CROSSINGS {
+            let d = target - from;
+            let dist = d.length();
+            if dist.is_nan() || dist <= 0.0 {
+                return tr;
+            }
+            let dir = d / dist;
+            let hit = self.intersect(&Ray::new(from, dir), dist);
+            let travelled = hit.map_or(dist, |h| h.t);
+            if let Some(id) = medium {
+                tr *= self.medium(id).transmittance(travelled);
+            }
+            match hit {
+                None => return tr,
+                Some(h) if self.is_invisible(&h) => {
+                    medium = self.medium_after(&h, medium, dir);
+                    from = offset_origin(h.p, h.ng, dir);
+                }
+                Some(_) => return Rgb::ZERO,
+            }
+            if tr == Rgb::ZERO {
+                return tr;
+            }
+        }
+        Rgb::ZERO
+    }
+}
