@@ -273,3 +273,92 @@ def test_the_scene_name_is_escaped_in_the_toml(tmp_path):
     path, _ = photon_blender.export_scene(depsgraph, str(tmp_path))
     with open(path, "rb") as f:
         assert tomllib.load(f)["name"] == scene.name
+
+
+def fog_stage():
+    """A floor in thin fog (a Volume Scatter on the World) under a spot light, with a cube of
+    smoke (a Principled Volume, no surface) on it."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x = SIZE
+    scene.render.resolution_y = SIZE
+    scene.render.resolution_percentage = 100
+    plane("floor", (0, 0, 0), (0, 0, 0), 6, principled("floor", (0.6, 0.6, 0.6), roughness=1.0))
+    smoke = bpy.data.materials.new("smoke")
+    smoke.use_nodes = True
+    nodes = smoke.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    volume = nodes.new("ShaderNodeVolumePrincipled")
+    volume.inputs["Color"].default_value = (0.8, 0.7, 0.6, 1.0)
+    volume.inputs["Density"].default_value = 2.0
+    volume.inputs["Anisotropy"].default_value = 0.3
+    volume.inputs["Absorption Color"].default_value = (0.25, 0.36, 0.81, 1.0)
+    output = nodes["Material Output"]
+    smoke.node_tree.links.new(volume.outputs["Volume"], output.inputs["Volume"])
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.4, 0, 0.5))
+    bpy.context.active_object.name = "smoke"
+    bpy.context.active_object.data.materials.append(smoke)
+    world = bpy.data.worlds.new("world")
+    scene.world = world
+    world.use_nodes = True
+    wnodes = world.node_tree.nodes
+    wnodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    scatter = wnodes.new("ShaderNodeVolumeScatter")
+    scatter.inputs["Color"].default_value = (0.9, 0.9, 0.9, 1.0)
+    scatter.inputs["Density"].default_value = 0.1
+    scatter.inputs["Anisotropy"].default_value = 0.2
+    world.node_tree.links.new(scatter.outputs["Volume"], wnodes["World Output"].inputs["Volume"])
+    bpy.ops.object.light_add(type="SPOT", location=(0, 0, 3), rotation=(0, 0, 0))
+    spot = bpy.context.active_object.data
+    spot.energy, spot.spot_size, spot.spot_blend = 300.0, math.radians(50), 0.0
+    bpy.ops.object.camera_add(location=(0, -4.5, 1.2), rotation=(math.radians(80), 0, 0))
+    scene.camera = bpy.context.active_object
+    scene.camera.data.angle = math.radians(45)
+    return scene
+
+
+def test_fog_and_smoke_map_to_cycles_coefficients_and_render_by_f12_as_by_the_cli(tmp_path):
+    import tomllib
+
+    scene = fog_stage()
+    reports = []
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    path, _ = photon_blender.export_scene(depsgraph, str(tmp_path), reports.append)
+    with open(path, "rb") as f:
+        toml = tomllib.load(f)
+    assert reports == [], reports
+    # Cycles: Volume Scatter σs = colour · density; Principled Volume σs = colour · density,
+    # σa = (1 − colour)(1 − √absorption colour) · density.
+    assert toml["medium"] == "world"
+    world = toml["media"]["world"]
+    assert world["sigma_s"] == pytest.approx([0.09] * 3)
+    assert world["sigma_a"] == [0.0] * 3
+    assert world["g"] == pytest.approx(0.2)
+    smoke = toml["media"]["smoke"]
+    assert smoke["sigma_s"] == pytest.approx([1.6, 1.4, 1.2])
+    assert smoke["sigma_a"] == pytest.approx(
+        [0.2 * 0.5 * 2.0, 0.3 * 0.4 * 2.0, 0.4 * 0.1 * 2.0], rel=1e-5
+    )
+    assert smoke["g"] == pytest.approx(0.3)
+    boundary = [s for s in toml["shapes"] if s.get("interior") == "smoke"]
+    assert len(boundary) == 1 and "material" not in boundary[0]
+    ply = (tmp_path / boundary[0]["file"]).read_text()
+    assert "element face 12" in ply  # the cube, triangulated
+    # F12 (the engine, through the Python module) against `photon render` of the export.
+    photon_blender.register()
+    try:
+        use_photon(scene, passes=8)
+        engine_out = tmp_path / "engine.exr"
+        scene.render.filepath = str(engine_out)
+        bpy.ops.render.render(write_still=True)
+    finally:
+        photon_blender.unregister()
+    cli_out = tmp_path / "cli.exr"
+    subprocess.run(
+        [photon_cli(), "render", path, "--integrator", "sppm", "--passes", "8",
+         "--photons-per-pass", str(PHOTONS), "-q", "-o", str(cli_out)],
+        check=True,
+    )
+    table, rel_mse, mean_ratio = compare(engine_out, cli_out)
+    print(table)
+    assert abs(mean_ratio - 1.0) < 0.03, table

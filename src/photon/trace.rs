@@ -348,6 +348,10 @@ struct PathVertex {
     medium: Option<MediumId>,
 }
 
+/// The largest probability with which a photon goes on after scattering in a medium (the
+/// path tracer's Russian roulette keeps the same ceiling).
+const MEDIUM_SURVIVAL: f32 = 0.95;
+
 /// What a photon path depends on besides its random numbers.
 struct PathContext<'a> {
     scene: &'a Scene,
@@ -424,8 +428,11 @@ fn trace_path(
                     medium: Some(m),
                 });
                 // The free flight's weight (σs·Tr over its density) is in `power`; the
-                // photon goes on with the probability of its largest channel's share.
-                let survive = (step.weight.max_element() * mis).min(1.0);
+                // photon goes on with the probability of its largest channel's share, at most
+                // MEDIUM_SURVIVAL: in a medium that does not absorb, a photon would otherwise
+                // wander to the depth limit (an infinite atmosphere of fog cost 64 events per
+                // photon).
+                let survive = (step.weight.max_element() * mis).min(MEDIUM_SURVIVAL);
                 if depth == ctx.max_depth || survive <= 0.0 || rng.next_f32() >= survive {
                     return;
                 }

@@ -14,10 +14,20 @@ How the Blender scene becomes a Photon scene:
   P / 4π W/sr of the point light it is cut from; a sun's strength is its irradiance in W/m²;
   the world colour × strength is a uniform sky of that radiance.
 
+- volumes: a Volume Scatter, Volume Absorption or Principled Volume (or a sum of them by Add
+  Shader) on the World's Volume output fills the scene (`medium`); on the Volume output of an
+  object's material with nothing on its Surface output, the object becomes an invisible
+  boundary (`interior`) around that medium, written as a PLY mesh beside the scene. Cycles'
+  coefficients per metre: Scatter σs = colour·density, Absorption σa = (1 − colour)·density,
+  Principled σs = colour·density and σa = max(1 − colour, 0)·max(1 − √absorption colour,
+  0)·density; Anisotropy is the Henyey–Greenstein g.
+
 Not mapped (say so in the render's report): world node trees beyond a Background colour,
 light textures and nodes, spot light shapes other than round, area shapes 'ELLIPSE' (a disk
-is used) and 'RECTANGLE' with unequal sides (a rectangle is used, both fine), volumes,
-hair, orthographic and panoramic cameras, depth of field, motion blur.
+is used) and 'RECTANGLE' with unequal sides (a rectangle is used, both fine), volume grids,
+textures and emission (the density and colours the nodes hold are used), a volume inside an
+object that also has a surface, hair, orthographic and panoramic cameras, depth of field,
+motion blur.
 """
 
 bl_info = {
@@ -201,26 +211,170 @@ def world_toml(scene, report):
     return f"[[lights]]\ntype = \"environment\"\nradiance = {fmt(radiance)}\n"
 
 
+def volume_output(node_tree, kind):
+    """The node on the Volume input of the active output node of `kind` ('OUTPUT_MATERIAL' or
+    'OUTPUT_WORLD'), and whether its Surface input is linked."""
+    if node_tree is None:
+        return None, False
+    outputs = [n for n in node_tree.nodes if n.type == kind]
+    out = next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
+    if out is None:
+        return None, False
+    volume = out.inputs.get("Volume")
+    surface = out.inputs.get("Surface")
+    node = volume.links[0].from_node if volume is not None and volume.is_linked else None
+    return node, surface is not None and surface.is_linked
+
+
+def medium_of(node, what, report):
+    """(σa, σs, g) of a volume shader node (Cycles' coefficients, per metre), or None."""
+    def value(socket):
+        s = node.inputs[socket]
+        if s.is_linked:
+            report(f"{what}: the volume's {socket} is driven by nodes, not mapped: its value is used")
+        v = s.default_value
+        return list(v[:3]) if hasattr(v, "__len__") else v
+
+    zero = [0.0, 0.0, 0.0]
+    if node.type == "ADD_SHADER":
+        parts = [medium_of(l.from_node, what, report) for i in node.inputs for l in i.links]
+        parts = [p for p in parts if p is not None]
+        if not parts:
+            return None
+        sigma_a = [sum(p[0][c] for p in parts) for c in range(3)]
+        sigma_s = [sum(p[1][c] for p in parts) for c in range(3)]
+        weight = sum(sum(p[1]) for p in parts)
+        g = sum(p[2] * sum(p[1]) for p in parts) / weight if weight > 0 else 0.0
+        return sigma_a, sigma_s, g
+    if node.type == "VOLUME_SCATTER":
+        density = max(value("Density"), 0.0)
+        return zero, [c * density for c in value("Color")], value("Anisotropy")
+    if node.type == "VOLUME_ABSORPTION":
+        density = max(value("Density"), 0.0)
+        return [(1.0 - c) * density for c in value("Color")], zero, 0.0
+    if node.type == "PRINCIPLED_VOLUME":
+        density = max(value("Density"), 0.0)
+        color = value("Color")
+        absorption = value("Absorption Color")
+        if value("Emission Strength") > 0.0 or value("Blackbody Intensity") > 0.0:
+            report(f"{what}: volume emission is not mapped")
+        sigma_a = [max(1.0 - c, 0.0) * max(1.0 - math.sqrt(max(a, 0.0)), 0.0) * density
+                   for c, a in zip(color, absorption)]
+        return sigma_a, [c * density for c in color], value("Anisotropy")
+    report(f"{what}: a {node.bl_label} volume is not mapped")
+    return None
+
+
+def medium_toml(name, medium):
+    sigma_a, sigma_s, g = medium
+    g = min(max(g, -0.99), 0.99)
+    return (f"[media.{toml_string(name)}]\nsigma_a = {fmt(sigma_a)}\nsigma_s = {fmt(sigma_s)}\n"
+            f"g = {float(g):.9g}\n")
+
+
+def write_ply(path, obj, depsgraph):
+    """The evaluated mesh of `obj` in world space (y-up, as the glTF export), as ASCII PLY."""
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        mesh.calc_loop_triangles()
+        m = obj.matrix_world
+        vertices = [y_up(m @ v.co) for v in mesh.vertices]
+        triangles = [tuple(t.vertices) for t in mesh.loop_triangles]
+    finally:
+        evaluated.to_mesh_clear()
+    with open(path, "w", encoding="ascii") as f:
+        f.write("ply\nformat ascii 1.0\n")
+        f.write(f"element vertex {len(vertices)}\nproperty float x\nproperty float y\nproperty float z\n")
+        f.write(f"element face {len(triangles)}\nproperty list uchar int vertex_indices\nend_header\n")
+        for v in vertices:
+            f.write(f"{v[0]:.9g} {v[1]:.9g} {v[2]:.9g}\n")
+        for t in triangles:
+            f.write(f"3 {t[0]} {t[1]} {t[2]}\n")
+
+
+def volume_objects(depsgraph, report):
+    """Mesh objects whose material has a volume and no surface: (object, material name,
+    medium)."""
+    out = []
+    if any(i.object.type == "VOLUME" for i in depsgraph.object_instances):
+        report("volume objects (OpenVDB grids) are not mapped")
+    for obj in {i.object.original for i in depsgraph.object_instances if i.object.type == "MESH"}:
+        for slot in obj.material_slots:
+            mat = slot.material
+            if mat is None or not mat.use_nodes:
+                continue
+            node, has_surface = volume_output(mat.node_tree, "OUTPUT_MATERIAL")
+            if node is None:
+                continue
+            what = f"material '{mat.name}'"
+            if has_surface:
+                report(f"{what}: a volume inside a surface is not mapped (the surface is)")
+                continue
+            medium = medium_of(node, what, report)
+            if medium is not None:
+                out.append((obj, mat.name, medium))
+                break
+    out.sort(key=lambda o: o[0].name)
+    return out
+
+
+def unique_media(volumes):
+    """Each material's medium once (objects may share a material), in object order."""
+    seen = {}
+    for _, name, medium in volumes:
+        seen.setdefault(name, medium)
+    return list(seen.items())
+
+
 def export_scene(depsgraph, directory, report=lambda m: None):
     """Write the Photon scene of the evaluated `depsgraph` into `directory`; returns the
     .toml path and the resolution."""
     scene = depsgraph.scene
     glb = os.path.join(directory, "meshes.glb")
-    has_meshes = any(i.object.type == "MESH" for i in depsgraph.object_instances)
+    volumes = volume_objects(depsgraph, report)
+    bounding = {o.name for o, _, _ in volumes}
+    meshes = [i.object.original for i in depsgraph.object_instances if i.object.type == "MESH"]
+    has_meshes = any(o.name not in bounding for o in meshes)
     if has_meshes:
-        bpy.ops.export_scene.gltf(
-            filepath=glb,
-            export_format="GLB",
-            export_apply=True,
-            export_cameras=False,
-            export_lights=False,
-            export_yup=True,
-            use_visible=True,
-        )
+        # The boundaries of media are written apart; the glTF holds every other mesh.
+        hidden = [o for o in meshes if o.name in bounding and not o.hide_get()]
+        for o in hidden:
+            o.hide_set(True)
+        try:
+            bpy.ops.export_scene.gltf(
+                filepath=glb,
+                export_format="GLB",
+                export_apply=True,
+                export_cameras=False,
+                export_lights=False,
+                export_yup=True,
+                use_visible=True,
+            )
+        finally:
+            for o in hidden:
+                o.hide_set(False)
     camera, size = camera_toml(scene)
-    parts = [f"name = {toml_string(scene.name)}\n", camera]
+    world_volume, _ = volume_output(
+        scene.world.node_tree if scene.world is not None and scene.world.use_nodes else None,
+        "OUTPUT_WORLD",
+    )
+    atmosphere = medium_of(world_volume, "the world", report) if world_volume else None
+    parts = [f"name = {toml_string(scene.name)}\n"]
+    if atmosphere is not None:
+        parts[0] += 'medium = "world"\n'
+    parts.append(camera)
+    if atmosphere is not None:
+        parts.append(medium_toml("world", atmosphere))
+    for name, medium in unique_media(volumes):
+        parts.append(medium_toml(name, medium))
     if has_meshes:
         parts.append("[[shapes]]\ntype = \"mesh\"\nfile = \"meshes.glb\"\n")
+    for k, (obj, name, medium) in enumerate(volumes):
+        ply = f"volume{k}.ply"
+        write_ply(os.path.join(directory, ply), obj, depsgraph)
+        parts.append(f"[[shapes]]\ntype = \"mesh\"\nfile = \"{ply}\"\nsmooth = false\n"
+                     f"interior = {toml_string(name)}\n")
     parts.append(lights_toml(depsgraph, report))
     parts.append(world_toml(scene, report))
     path = os.path.join(directory, "scene.toml")
