@@ -154,9 +154,10 @@ fn render(
             integrator: Some(kind),
             passes: Some(u64::from(samples)),
             photons_per_pass: Some(20_000),
-            // A ball well inside the sphere: near the wall a ball reaches past it and finds
-            // fewer photons, the boundary bias every density estimate has.
-            radius: Some(0.1),
+            // Balls of radius 0.1 (four times this), well inside the sphere: near the wall a
+            // ball reaches past it and finds fewer photons, the boundary bias every density
+            // estimate has.
+            radius: Some(0.025),
             ..Default::default()
         }
     } else {

@@ -1,16 +1,19 @@
 #!/usr/bin/env python3
-"""Equal-time comparison on a validation scene: Photon's `photon`, `sppm` and `path` beside
-Mitsuba 3's path tracer, each given the same wall-clock budget, against the scene's converged
-reference. Prints a Markdown table of relMSE and the RMSE in a crop (by default the glossy
-Cornell box's caustic under its rough glass sphere).
+"""Equal-time comparison on a validation scene: Photon's integrators (`photon`, `sppm` and
+`path` unless --integrators says) beside Mitsuba 3 (the integrator the scene's XML names:
+`path`, or `volpath` for scenes with media), each given the same wall-clock budget, against
+the scene's converged reference. Prints a Markdown table of relMSE, and relMSE and RMSE in a
+crop (by default the glossy Cornell box's caustic under its rough glass sphere).
 
     cargo build --release
     python validation/equal_time.py                       # glossy-cornell, budgets 1, 4, 12 s
     python validation/equal_time.py --scene env-spheres --crop 0,0,128,128 --budgets 2 8
+    python validation/equal_time.py --scene volumetric-caustic --integrators sppm ppm path \
+        --crop 52,60,76,118 --budgets 12 60
 
 Budgets are met by calibration: a short run measures the fixed cost (photon tracing, JIT) and
-the cost per sample, and the real run asks for the samples that fill the budget (`sppm` takes
-`--time` directly). Mitsuba renders passes of 8 samples with their own seeds until the next
+the cost per sample, and the real run asks for the samples that fill the budget (`sppm` and
+`ppm` take `--time` directly). Mitsuba renders passes of 8 samples with their own seeds until the next
 would overrun the budget, and averages them; its first render compiles its kernels and is not
 counted. Times are wall clock on the machine that runs it, with every core; the table reports the time each
 run really took. Needs `pip install mitsuba numpy`.
@@ -31,6 +34,7 @@ PHOTON = os.environ.get("PHOTON", os.path.join(ROOT, "target", "release", "photo
 
 
 def compare(image, reference, crop):
+    """relMSE of the whole image, and relMSE and RMSE in the crop."""
     out = subprocess.run(
         [PHOTON, "compare", image, reference, "--json"], capture_output=True, text=True, check=True
     )
@@ -41,7 +45,8 @@ def compare(image, reference, crop):
         text=True,
         check=True,
     )
-    return whole["rel_mse"], json.loads(out.stdout)["overall"]["rmse"]
+    in_crop = json.loads(out.stdout)["overall"]
+    return whole["rel_mse"], in_crop["rel_mse"], in_crop["rmse"]
 
 
 def photon_run(scene, integrator, args, out):
@@ -58,8 +63,8 @@ def photon_run(scene, integrator, args, out):
 
 def photon_at(scene, integrator, budget, out):
     """Render with Photon's `integrator` in about `budget` seconds."""
-    if integrator == "sppm":
-        secs = photon_run(scene, "sppm", ["--time", str(budget)], out)
+    if integrator in ("sppm", "ppm"):
+        secs = photon_run(scene, integrator, ["--time", str(budget)], out)
         return secs, f"--time {budget}"
     # Calibrate: fixed cost from a 1-spp run, per-sample cost from a 5-spp run.
     t1 = photon_run(scene, integrator, ["--spp", "1"], out)
@@ -101,6 +106,7 @@ def main():
     p.add_argument("--budgets", type=float, nargs="+", default=[1.0, 4.0, 12.0])
     p.add_argument("--crop", default="90,100,112,110", help="x0,y0,x1,y1 (the caustic by default)")
     p.add_argument("--no-mitsuba", action="store_true")
+    p.add_argument("--integrators", nargs="+", default=["photon", "sppm", "path"])
     a = p.parse_args()
     scene = os.path.join(HERE, a.scene, f"{a.scene}.toml")
     xml = os.path.join(HERE, a.scene, f"{a.scene}.xml")
@@ -117,22 +123,25 @@ def main():
         gltf_pbr.register()
         mi.set_log_level(mi.LogLevel.Error)
         print(f"Mitsuba {mi.__version__} ({variant})", file=sys.stderr)
+    with open(xml) as f:
+        m = re.search(r'<integrator\s+type="(\w+)"', f.read())
+    mitsuba_name = f"Mitsuba 3 {m.group(1) if m else 'path'}"
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for budget in a.budgets:
-            runs = [(name, lambda o, n=name: photon_at(scene, n, budget, o)) for name in ("photon", "sppm", "path")]
+            runs = [(name, lambda o, n=name: photon_at(scene, n, budget, o)) for name in a.integrators]
             if not a.no_mitsuba:
-                runs.append(("Mitsuba 3 path", lambda o: mitsuba_at(xml, budget, o)))
+                runs.append((mitsuba_name, lambda o: mitsuba_at(xml, budget, o)))
             for name, run in runs:
                 out = os.path.join(tmp, re.sub(r"\W", "_", name) + ".exr")
                 secs, what = run(out)
-                rel_mse, crop_rmse = compare(out, reference, a.crop)
-                rows.append((budget, name, secs, what, rel_mse, crop_rmse))
-                print(f"{budget:>5} s {name:<15} {secs:6.2f} s ({what}): relMSE {rel_mse:.5f}, crop RMSE {crop_rmse:.4f}", file=sys.stderr, flush=True)
-    print(f"| budget | renderer | time (s) | samples | relMSE | crop RMSE ({a.crop}) |")
-    print("|---:|---|---:|---|---:|---:|")
-    for budget, name, secs, what, rel_mse, crop_rmse in rows:
-        print(f"| {budget:g} s | {name} | {secs:.2f} | {what} | {rel_mse:.5f} | {crop_rmse:.4f} |")
+                rel_mse, crop_rel_mse, crop_rmse = compare(out, reference, a.crop)
+                rows.append((budget, name, secs, what, rel_mse, crop_rel_mse, crop_rmse))
+                print(f"{budget:>5} s {name:<18} {secs:6.2f} s ({what}): relMSE {rel_mse:.5f}, crop relMSE {crop_rel_mse:.5f}, RMSE {crop_rmse:.4f}", file=sys.stderr, flush=True)
+    print(f"| budget | renderer | time (s) | samples | relMSE | crop ({a.crop}) relMSE | crop RMSE |")
+    print("|---:|---|---:|---|---:|---:|---:|")
+    for budget, name, secs, what, rel_mse, crop_rel_mse, crop_rmse in rows:
+        print(f"| {budget:g} s | {name} | {secs:.2f} | {what} | {rel_mse:.5f} | {crop_rel_mse:.5f} | {crop_rmse:.4f} |")
 
 
 if __name__ == "__main__":

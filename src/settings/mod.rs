@@ -399,7 +399,8 @@ render_settings! {
         default: DefaultValue::Value(|_| d::CAUSTIC_PHOTONS.to_string()),
         note: "at least photons", check: photon_count,
     }
-    /// Largest gather radius in scene units (sppm and ppm: the first pass's radius).
+    /// Largest gather radius in scene units (sppm and ppm: the first pass's radius, 4× that for
+    /// balls in media).
     radius: f32 {
         group: PhotonMapping, takes: Takes::PHOTON.and(Takes::PROGRESSIVE),
         default: DefaultValue::Decided(
