@@ -55,6 +55,11 @@ pub struct Budget {
     /// Rendered image size (square); must divide the reference's size.
     pub size: u32,
     pub path_spp: u32,
+    /// `path`'s samples in scenes with media: light sampled from points in a medium near a
+    /// point or spot light varies as 1/r² (equiangular sampling, which would bound it, is not
+    /// implemented), and at `path_spp` the rare bright samples left `fog-spot` 1.2% dark
+    /// (0.2% at 16384).
+    pub media_path_spp: u32,
     pub photon_spp: u32,
     pub global_photons: u64,
     pub caustic_photons: u64,
@@ -71,6 +76,7 @@ impl Budget {
     pub const QUICK: Budget = Budget {
         size: 32,
         path_spp: 1024,
+        media_path_spp: 4096,
         photon_spp: 16,
         global_photons: 250_000,
         caustic_photons: 500_000,
@@ -83,6 +89,7 @@ impl Budget {
     pub const FULL: Budget = Budget {
         size: 64,
         path_spp: 1024,
+        media_path_spp: 4096,
         photon_spp: 16,
         global_photons: 250_000,
         caustic_photons: 1_000_000,
@@ -198,7 +205,12 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
     match method {
         Method::Path => {
             let integrator = Integrator::Path(PathConfig::default());
-            Ok(render(scene, &integrator, &settings(budget.path_spp), &none)?.image)
+            let spp = if scene.has_media() {
+                budget.media_path_spp
+            } else {
+                budget.path_spp
+            };
+            Ok(render(scene, &integrator, &settings(spp), &none)?.image)
         }
         Method::Photon => {
             let config = PhotonConfig {

@@ -11,11 +11,14 @@ use std::path::Path;
 /// integrator does not render the scene (the photon integrator and media).
 const BOUNDS: &[(&str, [f64; 4])] = &[
     ("absorbing-glass", [0.0018, 0.012, 0.03, 0.027]),
+    ("absorbing-water", [0.0004, 0.0, 0.015, 0.015]),
     ("alpha-fence", [0.0026, 0.006, 0.033, 0.03]),
     ("curved-ceiling", [0.0004, 0.005, 0.015, 0.015]),
     ("directional", [0.0002, 0.0035, 0.009, 0.01]),
     ("env-spheres", [0.0008, 0.016, 0.022, 0.028]),
     ("flush-light", [0.012, 0.029, 0.09, 0.094]),
+    ("fog-box", [0.0003, 0.0, 0.022, 0.022]),
+    ("fog-spot", [0.018, 0.0, 0.04, 0.04]),
     ("glass-caustics", [0.025, 0.045, 0.065, 0.06]),
     ("glossy-cornell", [0.0022, 0.018, 0.016, 0.015]),
     ("glossy-floor-spot", [0.0016, 0.011, 0.019, 0.018]),
@@ -29,6 +32,7 @@ const BOUNDS: &[(&str, [f64; 4])] = &[
     ("smooth-box", [0.0033, 0.025, 0.19, 0.26]),
     ("spot-light", [0.0015, 0.017, 0.025, 0.021]),
     ("textured-mesh", [0.0004, 0.007, 0.018, 0.02]),
+    ("thick-medium", [0.0002, 0.0, 0.019, 0.019]),
 ];
 
 #[test]

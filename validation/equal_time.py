@@ -110,7 +110,10 @@ def main():
     a = p.parse_args()
     scene = os.path.join(HERE, a.scene, f"{a.scene}.toml")
     xml = os.path.join(HERE, a.scene, f"{a.scene}.xml")
-    reference = os.path.join(HERE, a.scene, "reference.exr")
+    # A scene made for this study keeps its reference apart from the suite's.
+    reference = os.path.join(HERE, a.scene, "study-reference.exr")
+    if not os.path.exists(reference):
+        reference = os.path.join(HERE, a.scene, "reference.exr")
     if not a.no_mitsuba:
         import mitsuba as mi
 

@@ -30,6 +30,36 @@ Conventions (checked scene by scene against Photon's `path` integrator, see READ
 - pbr (glTF 2.0 metallic-roughness) = `twosided(gltf_pbr)`, the Python plugin in gltf_pbr.py.
 - environment light = Mitsuba `envmap` (`scale` = intensity, to_world = rotate about +y), or
   `constant` for a uniform radiance. The sky image comes from make_sky.py.
+
+Participating media (the scenes fog-spot, fog-box, absorbing-water, thick-medium,
+volumetric-caustic; Mitsuba integrator `volpath`, max_depth -1, chosen automatically when a scene
+defines a medium, `Scene.integrator` overrides it):
+- Photon `[media.NAME]` with `sigma_a`, `sigma_s` (per scene unit, number or RGB) and `g`, or
+  Mitsuba's form `albedo` + `density` (sigma_s = albedo * density, sigma_a = (1 - albedo) *
+  density) = Mitsuba `homogeneous` with sigma_t = sigma_a + sigma_s and albedo = sigma_s /
+  sigma_t per channel. Mitsuba wants RGB values in [0, 1]: a coloured sigma_t is written as the
+  colour over its largest channel times `scale` (a grey one as a float).
+- phase: g != 0 = Mitsuba `hg` with `g` written always (Mitsuba's default g is 0.8, not 0);
+  g = 0 = `isotropic`. Both put g > 0 forward (checked: hg's value for the straight-on direction
+  is (1 - g^2) / (4 pi (1 - g)^3)).
+- the scene's medium (Photon's top-level `medium = "NAME"`): the sensor's `<ref name="medium">`
+  (volpath starts camera rays in it); point and spot lights get the same ref (volpath does not
+  use it: it tracks the medium from the shading point; it is there for completeness).
+- a shape with `interior`/`exterior`: Mitsuba `<ref name="interior">`/`<ref name="exterior">`.
+  Photon's exterior defaults to the scene's medium, Mitsuba's to vacuum: the XML always writes
+  the exterior explicitly. Without a material the shape is an invisible boundary: Mitsuba's
+  `null` BSDF (otherwise it would get the default grey diffuse). With a material (glass) it is a
+  refracting boundary (Mitsuba's `dielectric` with the medium refs). Shapes with neither keep
+  the medium the ray is in, in both renderers (Mitsuba: no medium transition).
+- the side: both take the interior as the side opposite the geometric normal (a ray leaving
+  along the normal goes to the exterior: Mitsuba's `target_medium`, Photon's `medium_after`);
+  spheres and boxes (Mitsuba `cube`) face outward.
+- a medium whose coefficients are all zero (`air` in volumetric-caustic: the clear inside of a
+  glass sphere in fog) is written to Mitsuba as vacuum (no medium object, no ref).
+- shadow rays: Mitsuba's volpath passes null surfaces (with the media's transmittance) and
+  stops at any other surface, glass included, as Photon's.
+- boundaries never touch other surfaces: a medium box standing on the floor reaches 1 cm below
+  it (the floor cuts it), the glass box of water stands 2 mm above the floor.
 """
 
 import math
@@ -178,6 +208,12 @@ class Scene:
         self.spp = 16
         self.ref_spp = 1024
         self.assets = {}  # file name -> bytes
+        self.media = {}  # name -> dict (see define_medium)
+        self.scene_medium = None  # the medium around every shape (camera, point and spot lights)
+        self.integrator = None  # Mitsuba integrator; default: volpath if there are media, else path
+        # The reference's file name: scenes made for a study, not for the suite, keep theirs
+        # apart (a scene with reference.exr joins `photon validate` and the tests).
+        self.reference_file = "reference.exr"
 
     # camera --------------------------------------------------------------------------------
     def set_camera(self, position, look_at, up=(0.0, 1.0, 0.0), fov=40.0):
@@ -200,6 +236,60 @@ class Scene:
     def pbr(self, name, base_color, metallic=0.0, roughness=0.5):
         self.materials[name] = dict(type="pbr", base_color=base_color, metallic=metallic, roughness=roughness)
 
+    # media ---------------------------------------------------------------------------------
+    def define_medium(self, name, sigma_a=None, sigma_s=None, g=0.0, albedo=None, density=None):
+        """A homogeneous medium `[media.NAME]`: either sigma_a and sigma_s (per scene unit, a
+        number or RGB), or Mitsuba's albedo (number or RGB) and density (a number). g is the
+        Henyey-Greenstein asymmetry (0: isotropic)."""
+        assert (albedo is None) == (density is None) and (albedo is None) != (sigma_a is None and sigma_s is None)
+        assert -1.0 < g < 1.0
+        if albedo is not None:
+            sa = [(1.0 - a) * density for a in rgb3(albedo)]
+            ss = [a * density for a in rgb3(albedo)]
+        else:
+            sa, ss = rgb3(sigma_a or 0.0), rgb3(sigma_s or 0.0)
+        self.media[name] = dict(sigma_a=sigma_a, sigma_s=sigma_s, albedo=albedo, density=density, g=g,
+                                sa=sa, ss=ss)
+
+    def set_medium(self, name):
+        """The scene's medium (Photon's top-level `medium`). Call before adding shapes and lights:
+        Mitsuba's shapes get it as their explicit exterior, its point and spot lights as theirs."""
+        assert name in self.media and not self.shapes and not self.lights
+        self.scene_medium = name
+
+    def _is_vacuum(self, name):
+        """A medium of zero coefficients is written to Mitsuba as vacuum (no medium object)."""
+        return name is None or all(x == 0.0 for x in self.media[name]["sa"] + self.media[name]["ss"])
+
+    def _toml_media(self, interior, exterior):
+        out = []
+        if interior is not None:
+            assert interior in self.media, interior
+            out.append(f'interior = "{interior}"')
+        if exterior is not None:
+            assert exterior in self.media, exterior
+            out.append(f'exterior = "{exterior}"')
+        return out
+
+    def _xml_media(self, interior, exterior):
+        """Mitsuba's interior/exterior refs. Photon's default exterior is the scene's medium;
+        Mitsuba's is vacuum, so it is written explicitly. A shape with neither keeps the ray's
+        medium in both renderers (no medium transition)."""
+        if interior is None and exterior is None:
+            return ""
+        ext = exterior if exterior is not None else self.scene_medium
+        out = ""
+        if not self._is_vacuum(interior):
+            out += f'    <ref name="interior" id="{interior}"/>\n'
+        if not self._is_vacuum(ext):
+            out += f'    <ref name="exterior" id="{ext}"/>\n'
+        return out
+
+    def _xml_endpoint_medium(self):
+        if self._is_vacuum(self.scene_medium):
+            return ""
+        return f'    <ref name="medium" id="{self.scene_medium}"/>\n'
+
     # shapes --------------------------------------------------------------------------------
     def _toml_emission(self, emission):
         if emission is None:
@@ -215,9 +305,13 @@ class Scene:
             '    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>\n' % xvec(radiance)
         )
 
-    def _xml_bsdf(self, material, radiance):
+    def _xml_bsdf(self, material, radiance, interface=False):
         if radiance is not None:
             return ""
+        if material is None and interface:
+            # A medium boundary without a material: invisible (Mitsuba's null BSDF, pbrt's
+            # "interface"); without it Mitsuba would give the shape a grey diffuse BSDF.
+            return '    <bsdf type="null"/>\n'
         return f'    <ref id="{material}"/>\n'
 
     @staticmethod
@@ -271,19 +365,25 @@ class Scene:
             xml += "\n" + rectangle([[a[i], b[i], -n[i], c[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]])
         (self.lights if light else self.shapes).append((toml, xml))
 
-    def sphere(self, center, radius, material=None, emission=None):
+    def sphere(self, center, radius, material=None, emission=None, interior=None, exterior=None):
+        """A sphere; `interior`/`exterior` name the media inside and outside it (a sphere with
+        media and no material is an invisible boundary)."""
         area = 4 * math.pi * radius * radius
         rad = self._radiance(emission, area)
+        interface = interior is not None or exterior is not None
+        assert material or emission or interface
         toml = ["[[shapes]]", 'type = "sphere"', f"center = {tvec(center)}", f"radius = {fnum(radius)}"]
         if material:
             toml.append(f'material = "{material}"')
         toml += self._toml_emission(emission)
+        toml += self._toml_media(interior, exterior)
         xml = (
             '<shape type="sphere">\n'
             f'    <point name="center" value="{xvec(center)}"/>\n'
             f'    <float name="radius" value="{fnum(radius)}"/>\n'
-            + self._xml_bsdf(material, rad)
+            + self._xml_bsdf(material, rad, interface)
             + self._xml_emitter(rad)
+            + self._xml_media(interior, exterior)
             + "</shape>"
         )
         self.shapes.append((toml, xml))
@@ -312,26 +412,34 @@ class Scene:
         )
         self.shapes.append((toml, xml))
 
-    def box(self, size, material, rotate_y=0.0, translate=(0.0, 0.0, 0.0)):
+    def box(self, size, material, rotate_y=0.0, translate=(0.0, 0.0, 0.0), interior=None, exterior=None):
         """A box of `size` centred on the origin, turned about +y, then moved: Photon `box` with
-        a transform, Mitsuba `cube` ([-1, 1]^3) with the same matrix times the half-size."""
+        a transform, Mitsuba `cube` ([-1, 1]^3, normals outward) with the same matrix times the
+        half-size. `interior`/`exterior`: media (with `material = None`: an invisible boundary)."""
         h = [s / 2 for s in size]
         tables = [{"rotate": {"axis": [0.0, 1.0, 0.0], "angle": rotate_y}, "translate": list(translate)}]
         m = matmul(compose(tables), m_scale(h))
+        interface = interior is not None or exterior is not None
+        assert material or interface
         toml = [
             "[[shapes]]",
             'type = "box"',
             f"min = {tvec([-x for x in h])}",
             f"max = {tvec(h)}",
-            f'material = "{material}"',
-            "transform = { rotate = { axis = [0.0, 1.0, 0.0], angle = %s }, translate = %s }"
-            % (fnum(rotate_y), tvec(translate)),
         ]
+        if material:
+            toml.append(f'material = "{material}"')
+        toml += self._toml_media(interior, exterior)
+        toml.append(
+            "transform = { rotate = { axis = [0.0, 1.0, 0.0], angle = %s }, translate = %s }"
+            % (fnum(rotate_y), tvec(translate))
+        )
         xml = (
             '<shape type="cube">\n'
             f'    <transform name="to_world"><matrix value="{xmatrix(m)}"/></transform>\n'
-            f'    <ref id="{material}"/>\n'
-            "</shape>"
+            + self._xml_bsdf(material, None, interface)
+            + self._xml_media(interior, exterior)
+            + "</shape>"
         )
         self.shapes.append((toml, xml))
 
@@ -372,7 +480,8 @@ class Scene:
             '<emitter type="point">\n'
             f'    <point name="position" value="{xvec(position)}"/>\n'
             f'    <rgb name="intensity" value="{xvec(i)}"/>\n'
-            "</emitter>"
+            + self._xml_endpoint_medium()
+            + "</emitter>"
         )
         self.lights.append((toml, xml))
 
@@ -394,7 +503,8 @@ class Scene:
             f'    <rgb name="intensity" value="{xvec(intensity)}"/>\n'
             f'    <float name="cutoff_angle" value="{fnum(angle)}"/>\n'
             f'    <float name="beam_width" value="{fnum(angle)}"/>\n'
-            "</emitter>"
+            + self._xml_endpoint_medium()
+            + "</emitter>"
         )
         self.lights.append((toml, xml))
 
@@ -442,8 +552,12 @@ class Scene:
         out = [f"# {line}".rstrip() for line in self.comment.strip().splitlines()]
         out += [
             "# Written by validation/generate_scenes.py (edit there); Mitsuba twin: "
-            f"{self.name}.xml, reference: reference.exr.",
+            f"{self.name}.xml, reference: {self.reference_file}.",
             f'name = "{self.name}"',
+        ]
+        if self.scene_medium:
+            out.append(f'medium = "{self.scene_medium}"')
+        out += [
             "",
             "[camera]",
             f"position = {tvec(c['position'])}",
@@ -479,6 +593,16 @@ class Scene:
                 if m["alpha"]:
                     out.append(f"alpha = {fnum(m['alpha'])}")
             out.append("")
+        for name, m in self.media.items():
+            out.append(f"[media.{name}]")
+            if m["albedo"] is not None:
+                out.append(f"albedo = {tvec(m['albedo'])}")
+                out.append(f"density = {fnum(m['density'])}")
+            else:
+                out.append(f"sigma_a = {tvec(m['sigma_a'] or 0.0)}")
+                out.append(f"sigma_s = {tvec(m['sigma_s'] or 0.0)}")
+            out.append(f"g = {fnum(m['g'])}")
+            out.append("")
         for toml, _ in self.shapes + self.lights:
             out += toml + [""]
         return "\n".join(out)
@@ -489,11 +613,41 @@ class Scene:
         out += ["<!--"] + ["  " + line for line in self.comment.strip().splitlines()]
         out += [
             f"  Written by validation/generate_scenes.py (edit there); Photon twin: {self.name}.toml.",
-            f"  Reference: python validation/make_references.py {self.name}",
+            f"  Reference: python validation/make_references.py {self.name}"
+            + ("" if self.reference_file == "reference.exr" else f" (writes {self.reference_file})"),
             "-->",
+        ]
+        if self.reference_file != "reference.exr":
+            out.append(f"<!-- reference-file: {self.reference_file} -->")
+        out += [
             '<scene version="3.0.0">',
             f'<default name="spp" value="{self.ref_spp}"/>',
-            '<integrator type="path"><integer name="max_depth" value="-1"/></integrator>',
+            f'<integrator type="{self.integrator or ("volpath" if self.media else "path")}">'
+            '<integer name="max_depth" value="-1"/></integrator>',
+        ]
+        # Media first: the shapes and the sensor refer to them.
+        for name, m in self.media.items():
+            if self._is_vacuum(name):
+                out.append(f"<!-- medium {name}: zero coefficients, vacuum in Mitsuba (no medium object) -->")
+                continue
+            sigma_t = [a + b for a, b in zip(m["sa"], m["ss"])]
+            albedo = [b / t if t > 0 else 0.0 for b, t in zip(m["ss"], sigma_t)]
+            tmax = max(sigma_t)
+            if min(sigma_t) == tmax:
+                st = f'<float name="sigma_t" value="{fnum(tmax)}"/>'
+            else:
+                # Mitsuba's RGB values must lie in [0, 1]: the colour times `scale`.
+                st = (f'<rgb name="sigma_t" value="{xvec([t / tmax for t in sigma_t])}"/>'
+                      f'<float name="scale" value="{fnum(tmax)}"/>')
+            if min(albedo) == max(albedo):
+                al = f'<float name="albedo" value="{fnum(albedo[0])}"/>'
+            else:
+                al = f'<rgb name="albedo" value="{xvec(albedo)}"/>'
+            # Mitsuba's hg defaults to g = 0.8: always written.
+            phase = (f'<phase type="hg"><float name="g" value="{fnum(m["g"])}"/></phase>' if m["g"]
+                     else '<phase type="isotropic"/>')
+            out.append(f'<medium type="homogeneous" id="{name}">{st}{al}{phase}</medium>')
+        out += [
             '<sensor type="perspective">',
             f'    <float name="fov" value="{fnum(c["fov"])}"/>',
             '    <string name="fov_axis" value="y"/>',
@@ -502,6 +656,10 @@ class Scene:
             f'    <transform name="to_world"><lookat origin="{xvec(c["position"])}" '
             f'target="{xvec(c["look_at"])}" up="{xvec(c["up"])}"/></transform>',
             '    <sampler type="multijitter"><integer name="sample_count" value="$spp"/></sampler>',
+        ]
+        if not self._is_vacuum(self.scene_medium):
+            out.append(f'    <ref name="medium" id="{self.scene_medium}"/>')
+        out += [
             '    <film type="hdrfilm">',
             f'        <integer name="width" value="{RES}"/>',
             f'        <integer name="height" value="{RES}"/>',
@@ -1055,11 +1213,149 @@ the pbr material with the Python plugin gltf_pbr.py.""")
     return s
 
 
+# --------------------------------------------------------------------------------------------
+# Participating media (Mitsuba: integrator volpath)
+
+
+def closed_room_camera(s, fov=62.0, look_y=0.85):
+    """For scenes filled with a medium: the room is closed (front wall too) and the camera stands
+    inside it, 2 cm from the front wall, so that no path leaves into endless fog."""
+    s.set_camera([0.0, 1.0, 0.98], [0.0, look_y, -1.0], fov=fov)
+
+
+def fog_spot():
+    s = Scene("fog-spot", """
+Fog filling a closed room (the scene's medium: Photon's top-level `medium`, Mitsuba's sensor
+medium; the camera stands inside, by the front wall): sigma_s 0.4, sigma_a 0.03 per unit,
+Henyey-Greenstein g 0.3. A hard-edged spot light (30 degrees) high by the left wall, aimed down
+across the room at a yellow sphere on the floor, draws a visible beam (single scattering) with
+the sphere's shadow in it; the rest of the room and the fog are lit by light scattered by the
+fog and the walls. The spot light sits in the fog.""")
+    room_materials(s)
+    s.diffuse("yellow", [0.7, 0.6, 0.2])
+    s.define_medium("fog", sigma_a=[0.03, 0.03, 0.03], sigma_s=[0.3, 0.3, 0.3], g=0.3)
+    s.set_medium("fog")
+    closed_room_camera(s, fov=55.0, look_y=0.7)
+    room(s, front=True)
+    s.sphere([0.3, 0.3, -0.5], 0.3, "yellow")
+    s.spot([-0.85, 1.75, -0.25], [0.45, 0.0, -0.6], [14.0, 13.0, 11.0], 25.0)
+    s.ref_spp = 8192
+    return s
+
+
+def fog_box():
+    s = Scene("fog-box", """
+A box of fog in a room in vacuum (open at the front) under a ceiling quad light (out of the
+frame): the box (0.9 x 0.95 x 0.9, its bottom face 1 cm under the floor, so the floor cuts it)
+is an invisible boundary (no material; Mitsuba: null BSDF) around a forward-scattering medium
+(sigma_s 2.2, sigma_a 0.05 0.12 0.25 per unit: a warm, channel-dependent extinction; g 0.6). A
+white sphere stands on the floor inside it, a blue one outside beside it. Light enters and
+leaves through the box's faces; the sphere and the box cast shadows through the fog.""")
+    room_materials(s)
+    s.diffuse("blue", [0.15, 0.25, 0.7])
+    s.define_medium("haze", sigma_a=[0.05, 0.12, 0.25], sigma_s=[2.2, 2.2, 2.2], g=0.6)
+    low_camera(s)
+    room(s)
+    y = 2.0 - 1e-3
+    s.quad([[-0.3, y, -0.3], [0.3, y, -0.3], [0.3, y, 0.3], [-0.3, y, 0.3]], emission=("power", 16.0), light=True)
+    s.box([0.9, 0.95, 0.9], None, translate=[-0.3, 0.465, -0.25], interior="haze")
+    s.sphere([-0.3, 0.25, -0.25], 0.25, "white")
+    s.sphere([0.55, 0.25, 0.25], 0.25, "blue")
+    s.ref_spp = 6144
+    return s
+
+
+def absorbing_water():
+    s = Scene("absorbing-water", """
+A block of water: a glass box (ior 1.33; Mitsuba dielectric, int_ior 1.33, ext_ior 1) 0.8 x 0.6 x
+0.5, turned 25 degrees, standing 2 mm above the floor, around an interior medium that absorbs red
+most (sigma_a 0.9 0.25 0.1 per unit) and scatters a little (sigma_s 0.3, isotropic): a blue-green
+tint growing with the path length, a faint glow of light scattered inside, the room refracted
+through it. A yellow sphere stands behind it. Lit by a 1 x 1 ceiling panel 10 cm below the ceiling
+(out of the frame), large so that paths scattered in the water find it through the glass (shadow
+rays do not pass the glass). The floor reaches 0.4 beyond the room's open front, under the
+frame's bottom edge.""")
+    room_materials(s)
+    s.diffuse("yellow", [0.7, 0.6, 0.2])
+    s.glass("water-glass", 1.33)
+    s.define_medium("water", sigma_a=[0.9, 0.25, 0.1], sigma_s=[0.3, 0.3, 0.3], g=0.0)
+    s.set_camera([0.0, 0.95, 2.9], [0.0, 0.55, 0.0], fov=39.3)
+    room(s)
+    # The room's floor, 0.4 longer in front: the frame's bottom edge sees past z = 1.
+    del s.shapes[0]
+    s.quad([[-1.0, 0.0, 1.4], [1.0, 0.0, 1.4], [1.0, 0.0, -1.0], [-1.0, 0.0, -1.0]], "white")
+    y = 1.9
+    s.quad([[-0.5, y, -0.5], [0.5, y, -0.5], [0.5, y, 0.5], [-0.5, y, 0.5]], emission=("radiance", 4.0), light=True)
+    s.box([0.8, 0.6, 0.5], "water-glass", rotate_y=25.0, translate=[-0.15, 0.302, 0.05], interior="water")
+    s.sphere([0.45, 0.25, -0.5], 0.25, "yellow")
+    s.ref_spp = 12288
+    return s
+
+
+def thick_medium():
+    s = Scene("thick-medium", """
+A dense, bright medium: an invisible sphere (radius 0.4, no material; Mitsuba: null BSDF) 1 cm
+above the floor holding a medium given in Mitsuba's form, albedo 0.98 and density 9 per unit
+(sigma_s 8.82, sigma_a 0.18, isotropic): optical radius 3.6, a cloud-like ball lit by a ceiling
+quad light (out of the frame), with many scattering events per path. A blue sphere beside it.""")
+    room_materials(s)
+    s.diffuse("blue", [0.15, 0.25, 0.7])
+    s.define_medium("cloud", albedo=0.98, density=9.0, g=0.0)
+    low_camera(s)
+    room(s)
+    y = 2.0 - 1e-3
+    s.quad([[-0.3, y, -0.3], [0.3, y, -0.3], [0.3, y, 0.3], [-0.3, y, 0.3]], emission=("power", 14.0), light=True)
+    s.sphere([-0.2, 0.41, -0.2], 0.4, None, interior="cloud")
+    s.sphere([0.6, 0.2, 0.35], 0.2, "blue")
+    s.ref_spp = 6144
+    return s
+
+
+def volumetric_caustic():
+    s = Scene("volumetric-caustic", """
+A volumetric caustic, for an equal-time study rather than a unit test: thin fog fills a closed,
+dim room (the scene's medium: sigma_s 0.2, sigma_a 0.01, g 0.2; grey walls 0.3, floor 0.4). A
+small quad light (0.15 x 0.15, power 60, facing down, 5 cm under the ceiling) inside a dark
+square shade (four quads 0.18 wide, from 1 cm under the ceiling down to y = 1.5) shines on a
+glass sphere (ior 1.5, radius 0.25, centre 0.95 below the light): the sphere focuses the light
+into a beam that narrows to a focus about 0.6 under the sphere's centre and widens again down to
+the floor, where the caustic lies in the sphere's shadow, ringed by the light that passes beside
+the sphere. The sphere's inside is clear: `interior = "air"` (a medium of zero coefficients;
+Mitsuba: no interior medium, vacuum) and `exterior = "fog"`. The camera stands in the room by
+the front wall, the shade and the light just above the frame. A path tracer finds the beam only
+when a scattering point's sampled direction passes through the sphere to the small light (shadow
+rays stop at the glass): the reference is far from converged there; see README.md.""")
+    s.diffuse("grey", [0.3, 0.3, 0.3])
+    s.diffuse("floor", [0.4, 0.4, 0.4])
+    s.diffuse("shade", [0.05, 0.05, 0.05])
+    s.glass("glass", 1.5)
+    s.define_medium("fog", sigma_a=[0.01, 0.01, 0.01], sigma_s=[0.2, 0.2, 0.2], g=0.2)
+    s.define_medium("air", sigma_a=0.0, sigma_s=0.0)
+    s.set_medium("fog")
+    s.set_camera([0.0, 1.0, 0.98], [0.0, 0.65, -1.0], fov=60.0)
+    room(s, left="grey", right="grey", walls="grey", front=True)
+    del s.shapes[0]  # the room's floor, replaced by a lighter one
+    s.quad([[-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [-1.0, 0.0, -1.0]], "floor")
+    cx, cz = 0.0, -0.3
+    h, y = 0.075, 1.95
+    s.quad([[cx - h, y, cz - h], [cx + h, y, cz - h], [cx + h, y, cz + h], [cx - h, y, cz + h]],
+           emission=("power", 60.0), light=True)
+    w, y0, y1 = 0.09, 1.5, 1.99
+    corners = [[cx - w, cz - w], [cx + w, cz - w], [cx + w, cz + w], [cx - w, cz + w]]
+    for k in range(4):
+        (xa, za), (xb, zb) = corners[k], corners[(k + 1) % 4]
+        s.quad([[xa, y0, za], [xb, y0, zb], [xb, y1, zb], [xa, y1, za]], "shade")
+    s.sphere([cx, 1.0, cz], 0.25, "glass", interior="air", exterior="fog")
+    s.ref_spp = 20480
+    s.reference_file = "study-reference.exr"
+    return s
+
+
 SCENES = {
     f.__name__.replace("_", "-"): f
     for f in [point_light, spot_light, directional, grazing_area, curved_ceiling, glass_caustics,
               indirect_only, textured_mesh, millimetres, light_strip, glossy_cornell, env_spheres,
-              glossy_floor_spot]
+              glossy_floor_spot, fog_spot, fog_box, absorbing_water, thick_medium, volumetric_caustic]
 }
 
 

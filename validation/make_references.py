@@ -5,9 +5,14 @@
     python validation/make_references.py              # every scene
     python validation/make_references.py NAME ...     # some scenes
 
-For each scene directory validation/NAME/ this reads NAME.xml, renders it with Mitsuba's `path`
-integrator (max_depth = -1, box pixel filter) at the sample count given by the
-`<default name="spp" .../>` line of the XML, and writes NAME/reference.exr (float32 RGB).
+For each scene directory validation/NAME/ this reads NAME.xml, renders it with the integrator
+the XML names (max_depth = -1, box pixel filter) at the sample count given by the
+`<default name="spp" .../>` line of the XML, and writes NAME/reference.exr (float32 RGB; a scene
+made for a study rather than the suite writes the file its `<!-- reference-file: ... -->` line
+names, study-reference.exr). The
+scenes choose their integrator in generate_scenes.py (`Scene.integrator`): Mitsuba's `path` for
+surfaces only, `volpath` for scenes with participating media (and for the Blender scenes that need
+its shadow rays through masked or null surfaces); --integrator overrides it for a test.
 
 The samples are rendered in passes of at most --pass-spp samples per pixel, each with its own
 seed; the passes are split into two independent halves (seeds 0, 2, 4, ... and 1, 3, 5, ...),
@@ -25,7 +30,9 @@ Photon's `pbr` material (the glTF 2.0 metallic-roughness BRDF) has no Mitsuba pl
 scenes use `gltf_pbr`, the Python plugin in validation/gltf_pbr.py, registered here.
 
 Options: --variant (default llvm_ad_rgb, falling back to scalar_rgb), --spp N (override the
-scene's count, e.g. for a quick look), --output FILE (only with one scene), --pass-spp N.
+scene's count, e.g. for a quick look), --output FILE (only with one scene), --pass-spp N,
+--threads N (Dr.Jit's worker threads; default: all cores), --integrator NAME (override the
+XML's, max_depth -1).
 """
 
 import argparse
@@ -79,7 +86,22 @@ def half_rel_mse(a, b):
     return float(np.mean((a - b) ** 2 / (m * m + 0.01)))
 
 
-def render(mi, name, spp, pass_spp, output):
+def reference_file(xml_path):
+    """The reference's file name: `reference.exr`, or the one a `<!-- reference-file: NAME -->`
+    line names (study-reference.exr for a scene made for an equal-time study, which stays out of
+    `photon validate` and the tests)."""
+    with open(xml_path) as f:
+        m = re.search(r"<!--\s*reference-file:\s*(\S+)\s*-->", f.read())
+    return m.group(1) if m else "reference.exr"
+
+
+def scene_integrator(xml_path):
+    with open(xml_path) as f:
+        m = re.search(r'<integrator\s+type="(\w+)"', f.read())
+    return m.group(1) if m else "path"
+
+
+def render(mi, name, spp, pass_spp, output, integrator=None):
     import numpy as np
 
     xml = os.path.join(HERE, name, f"{name}.xml")
@@ -92,21 +114,34 @@ def render(mi, name, spp, pass_spp, output):
     # pass's samples, the multijitter sampler drew from a pattern meant for far more samples:
     # at 98304 spp the light-strip reference came out 6% dark, with deceptively low noise.
     scene = mi.load_file(xml, spp=per_pass)
+    used = scene_integrator(xml)
+    override = None
+    if integrator and integrator != used:
+        override = mi.load_dict({"type": integrator, "max_depth": -1})
+        used = integrator
     halves = [None, None]
     start = time.time()
     for k in range(passes):
-        img = np.array(mi.render(scene, spp=per_pass, seed=k), dtype=np.float64)[:, :, :3]
+        img = np.array(mi.render(scene, spp=per_pass, seed=k, integrator=override), dtype=np.float64)[:, :, :3]
         h = k % 2
         halves[h] = img if halves[h] is None else halves[h] + img
     secs = time.time() - start
     a, b = halves[0] / (passes // 2), halves[1] / (passes // 2)
     ref = (0.5 * (a + b)).astype(np.float32)
     noise = half_rel_mse(a, b)
-    out = output or os.path.join(HERE, name, "reference.exr")
+    out = output or os.path.join(HERE, name, reference_file(xml))
+    import drjit as dr
+
+    threads = dr.thread_count()
+    if threads < 2:
+        # Mitsuba 3.9.1 / Dr.Jit 1.5.0: after dr.set_thread_count(1), Bitmap.write of an EXR
+        # never returns (seen here, cause not looked into): write it with two, then go back.
+        dr.set_thread_count(2)
     mi.Bitmap(ref, pixel_format=mi.Bitmap.PixelFormat.RGB).write(out)
+    dr.set_thread_count(threads)
     mean = ref.reshape(-1, 3).mean(axis=0)
     print(
-        f"{name}: {spp} spp ({passes} passes) in {secs:.0f} s; half-vs-half relMSE {noise:.2e}; "
+        f"{name}: {used}, {spp} spp ({passes} passes) in {secs:.0f} s; half-vs-half relMSE {noise:.2e}; "
         f"mean RGB {mean[0]:.4f} {mean[1]:.4f} {mean[2]:.4f} -> {os.path.relpath(out)}",
         flush=True,
     )
@@ -120,6 +155,8 @@ def main():
     p.add_argument("--spp", type=int, help="override the scene's sample count")
     p.add_argument("--pass-spp", type=int, default=256, help="samples per pixel per pass")
     p.add_argument("--output", help="output file (one scene only)")
+    p.add_argument("--threads", type=int, help="Dr.Jit worker threads (default: all cores)")
+    p.add_argument("--integrator", help="override the XML's integrator (e.g. path, volpath)")
     a = p.parse_args()
     names = a.names or scene_names()
     unknown = [n for n in names if n not in scene_names()]
@@ -131,6 +168,10 @@ def main():
     import mitsuba as mi
 
     variant = set_variant(mi, a.variant)
+    if a.threads:
+        import drjit as dr
+
+        dr.set_thread_count(a.threads)
     sys.path.insert(0, HERE)
     import gltf_pbr  # the glTF metallic-roughness BRDF (Photon's pbr) as a Mitsuba plugin
 
@@ -142,7 +183,7 @@ def main():
     total = 0.0
     for name in names:
         spp = a.spp or scene_spp(os.path.join(HERE, name, f"{name}.xml"))
-        secs, _ = render(mi, name, spp, a.pass_spp, a.output)
+        secs, _ = render(mi, name, spp, a.pass_spp, a.output, a.integrator)
         total += secs
     print(f"total {total:.0f} s")
 
