@@ -7,7 +7,7 @@ use super::lighting::{MediumPoint, direct_light, direct_light_in_medium};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::Part;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
-use crate::medium::{MediumId, hero_channel, spectral_mis};
+use crate::medium::{MediumId, spectral_mis};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Interaction, Scene};
 
@@ -41,11 +41,7 @@ pub(super) fn radiance(
 ) -> Sample {
     stats.camera += 1;
     // Spectral MIS in media (see `crate::medium`): the hero channel of the distances.
-    let hero = if scene.has_media() {
-        hero_channel(rng.next_f32())
-    } else {
-        0
-    };
+    let hero = scene.draw_hero_channel(rng);
     let mut walk = Walk {
         rng,
         stats,

@@ -117,16 +117,9 @@ pub(crate) fn one_light_in_medium(
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
-    let u_choose = rng.next_f32();
-    let u_pick = rng.next_f32();
-    let u = rng.next_2d();
-    let Some((i, pmf, _)) = scene.choose_light(u_choose) else {
+    let Some(ls) = light_by_power(scene, mp.p, rng) else {
         return Rgb::ZERO;
     };
-    let Some(mut ls) = scene.lights()[i].sample_li(mp.p, u_pick, u) else {
-        return Rgb::ZERO;
-    };
-    ls.pdf *= pmf;
     let (value, phase_pdf) = in_scattered(scene, mp, &ls, stats);
     if ls.is_delta {
         value
@@ -342,6 +335,17 @@ pub(crate) fn escaped_radiance(
     env.radiance(dir) * w
 }
 
+/// A sample of one light chosen by power, seen from `p`; its density includes the choice.
+fn light_by_power(scene: &Scene, p: Vec3, rng: &mut impl Sampler) -> Option<LightSample> {
+    let u_choose = rng.next_f32();
+    let u_pick = rng.next_f32();
+    let u = rng.next_2d();
+    let (i, pmf, _) = scene.choose_light(u_choose)?;
+    let mut ls = scene.lights()[i].sample_li(p, u_pick, u)?;
+    ls.pdf *= pmf;
+    Some(ls)
+}
+
 /// One light, chosen by power, sampled once; MIS-weighted against BSDF sampling for area lights.
 pub(crate) fn one_light_by_power(
     scene: &Scene,
@@ -349,17 +353,9 @@ pub(crate) fn one_light_by_power(
     rng: &mut Rng,
     stats: &mut RayStats,
 ) -> Rgb {
-    let u_choose = rng.next_f32();
-    let u_pick = rng.next_f32();
-    let u = rng.next_2d();
-    let Some((i, pmf, _)) = scene.choose_light(u_choose) else {
+    let Some(ls) = light_by_power(scene, sp.hit.p, rng) else {
         return Rgb::ZERO;
     };
-    let light = &scene.lights()[i];
-    let Some(mut ls) = light.sample_li(sp.hit.p, u_pick, u) else {
-        return Rgb::ZERO;
-    };
-    ls.pdf *= pmf;
     let Some((value, bsdf_pdf)) = light_sample_contribution(scene, sp, &ls, stats) else {
         return Rgb::ZERO;
     };

@@ -7,7 +7,7 @@ use super::lighting::{
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
-use crate::medium::{hero_channel, spectral_mis};
+use crate::medium::spectral_mis;
 use crate::sampling::Rng;
 use crate::scene::{Interaction, NO_LIGHT, Scene};
 
@@ -43,11 +43,7 @@ pub(super) fn radiance(
     // Spectral MIS in media (see `crate::medium`): the hero channel distances are drawn
     // with, and each channel's density of them over the hero's. Contributions are divided by
     // the mean ratio.
-    let hero = if scene.has_media() {
-        hero_channel(rng.next_f32())
-    } else {
-        0
-    };
+    let hero = scene.draw_hero_channel(rng);
     let mut ratio = Rgb::ONE;
     // Density of the BSDF or phase sample that produced `ray`, and whether it was a delta lobe.
     let mut prev_pdf = 0.0f32;

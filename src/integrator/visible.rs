@@ -8,7 +8,7 @@ use super::lighting::{
 use super::{RayStats, ShadingPoint};
 use crate::material::{Material, Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
-use crate::medium::{MediumId, hero_channel, spectral_mis};
+use crate::medium::{MediumId, spectral_mis};
 use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene};
 
@@ -83,11 +83,7 @@ pub fn trace_camera_path<S: Sampler>(
     let mut chain = (!scene.has_media()).then_some(DeltaChain { weight: Rgb::ONE });
     let mut medium = scene.atmosphere();
     // Spectral MIS in media (see `crate::medium`).
-    let hero = if scene.has_media() {
-        hero_channel(rng.next_f32())
-    } else {
-        0
-    };
+    let hero = scene.draw_hero_channel(rng);
     let mut ratio = Rgb::ONE;
     stats.camera += 1;
     for depth in 0..=max_depth {

@@ -6,7 +6,7 @@ use super::record::{Channel, PassPhoton, Photon, VolumePhoton};
 use crate::error::{Error, Result};
 use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, Vec2, Vec3, offset_origin};
-use crate::medium::{MediumId, hero_channel, spectral_mis};
+use crate::medium::{MediumId, spectral_mis};
 use crate::sampling::halton::ShiftedHalton;
 use crate::sampling::{Distribution1D, Rng};
 use crate::scene::{Interaction, Scene};
@@ -401,8 +401,7 @@ fn trace_path(
     // hero channel; a photon of one channel with its own.
     let hero = match ctx.channel.index() {
         Some(c) => c,
-        None if scene.has_media() => hero_channel(rng.next_f32()),
-        None => 0,
+        None => scene.draw_hero_channel(rng),
     };
     let mut ratio = Rgb::ONE;
     for depth in 1..=ctx.max_depth {

@@ -506,6 +506,26 @@ fn gather(
     scale: f32,
     stopped: &(impl Fn() -> bool + Sync),
 ) {
+    for_each_slot(slots, width, stopped, |slot, scratch| {
+        let Some(v) = &slot.point else {
+            return;
+        };
+        let (flux, m) = photon_flux(grid, &v.vp, v.r2, scratch);
+        slot.phi = (flux * scale * v.vp.beta)
+            .to_array()
+            .map(|x| if x.is_finite() { f64::from(x) } else { 0.0 });
+        slot.m = m;
+    });
+}
+
+/// `f(slot, scratch)` for every slot, rows in parallel with a query scratch per thread; rows
+/// not started when `stopped()` are skipped.
+fn for_each_slot(
+    slots: &mut [PassSlot],
+    width: usize,
+    stopped: &(impl Fn() -> bool + Sync),
+    f: impl Fn(&mut PassSlot, &mut QueryScratch) + Sync,
+) {
     slots
         .par_chunks_mut(width)
         .for_each_init(QueryScratch::default, |scratch, row| {
@@ -513,14 +533,7 @@ fn gather(
                 return;
             }
             for slot in row {
-                let Some(v) = &slot.point else {
-                    continue;
-                };
-                let (flux, m) = photon_flux(grid, &v.vp, v.r2, scratch);
-                slot.phi = (flux * scale * v.vp.beta)
-                    .to_array()
-                    .map(|x| if x.is_finite() { f64::from(x) } else { 0.0 });
-                slot.m = m;
+                f(slot, scratch);
             }
         });
 }
@@ -538,42 +551,35 @@ fn gather_volume(
     scale: f32,
     stopped: &(impl Fn() -> bool + Sync),
 ) {
-    slots
-        .par_chunks_mut(width)
-        .for_each_init(QueryScratch::default, |scratch, row| {
-            if stopped() {
-                return;
-            }
-            for slot in row {
-                let Some(v) = &slot.volume else {
-                    continue;
-                };
-                let medium = scene.medium(v.vp.medium);
-                let mut sum = Rgb::ZERO;
-                grid.for_each_within(v.vp.p, v.r, scratch, &mut |ph, _| {
-                    if ph.medium == v.vp.medium {
-                        sum += ph.power * medium.phase.eval(v.vp.wo, ph.incoming);
-                    }
-                });
-                let volume = 4.0 / 3.0 * PI * f64::from(v.r).powi(3);
-                let per_sigma = |x: f32, sigma_s: f32| {
-                    if sigma_s > 0.0 {
-                        (f64::from(x) * f64::from(scale) / (f64::from(sigma_s) * volume)) as f32
-                    } else {
-                        0.0
-                    }
-                };
-                let estimate = Rgb::new(
-                    per_sigma(sum.x, medium.sigma_s.x),
-                    per_sigma(sum.y, medium.sigma_s.y),
-                    per_sigma(sum.z, medium.sigma_s.z),
-                );
-                let l = v.vp.beta * estimate;
-                if l.is_finite() {
-                    slot.direct += l;
-                }
+    for_each_slot(slots, width, stopped, |slot, scratch| {
+        let Some(v) = &slot.volume else {
+            return;
+        };
+        let medium = scene.medium(v.vp.medium);
+        let mut sum = Rgb::ZERO;
+        grid.for_each_within(v.vp.p, v.r, scratch, &mut |ph, _| {
+            if ph.medium == v.vp.medium {
+                sum += ph.power * medium.phase.eval(v.vp.wo, ph.incoming);
             }
         });
+        let volume = 4.0 / 3.0 * PI * f64::from(v.r).powi(3);
+        let per_sigma = |x: f32, sigma_s: f32| {
+            if sigma_s > 0.0 {
+                (f64::from(x) * f64::from(scale) / (f64::from(sigma_s) * volume)) as f32
+            } else {
+                0.0
+            }
+        };
+        let estimate = Rgb::new(
+            per_sigma(sum.x, medium.sigma_s.x),
+            per_sigma(sum.y, medium.sigma_s.y),
+            per_sigma(sum.z, medium.sigma_s.z),
+        );
+        let l = v.vp.beta * estimate;
+        if l.is_finite() {
+            slot.direct += l;
+        }
+    });
 }
 
 /// Median gather radius of a pass's volume points (0 with none).

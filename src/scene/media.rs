@@ -64,6 +64,17 @@ impl Scene {
         &self.media
     }
 
+    /// The hero channel a path draws its distances with (see [`crate::medium`]): drawn from
+    /// `sampler` in a scene with media; channel 0, drawing nothing, in one without, so that
+    /// its paths use the random numbers they always did.
+    pub fn draw_hero_channel(&self, sampler: &mut impl Sampler) -> usize {
+        if self.has_media() {
+            crate::medium::hero_channel(sampler.next_f32())
+        } else {
+            0
+        }
+    }
+
     /// The boundary a primitive is part of, if any.
     #[inline]
     pub fn boundary(&self, prim: u32) -> Option<&Boundary> {
