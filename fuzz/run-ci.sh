@@ -7,7 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 for spec in "scene_toml 30000" "mesh_files 30000" "gltf 5000" "saved_state 50000" \
   "job_manifest 30000" "job_part 50000" \
-  "texture_png 30000" "texture_jpeg 30000" "environment_hdr 30000" "image_exr 30000"; do
+  "texture_png 30000" "texture_jpeg 30000" "environment_hdr 30000" "image_exr 30000" \
+  "vdb_grid 30000"; do
   set -- $spec
   work=$(mktemp -d)
   cp -r "fuzz/corpus/$1/." "$work/"

@@ -4,11 +4,11 @@
 
 mod common;
 
+use common::media::{image_mean, render, scene};
 use common::{chi2, chi2_z};
 use photon::math::{Rgb, Vec3};
 use photon::medium::{HenyeyGreenstein, Homogeneous};
 use photon::sampling::Rng;
-use photon::settings::IntegratorKind;
 
 const N: u64 = 400_000;
 const Z_MAX: f64 = 4.0;
@@ -117,67 +117,6 @@ fn free_flights_reproduce_the_transmittance_and_scattering_density_of_a_slab() {
 }
 
 // ---- Media in scenes, rendered, against closed forms -------------------------------------
-
-fn scene(toml: &str) -> photon::scene::Scene {
-    let desc = photon::description::toml_read::read_str(
-        toml,
-        std::path::Path::new("scene.toml"),
-        std::path::Path::new("."),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
-    photon::description::build::build(&desc).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The image's mean, rendered by `integrator` with `samples` samples per pixel or passes.
-fn image_mean(scene: &photon::scene::Scene, integrator: &str, samples: u32) -> Rgb {
-    let image = render(scene, integrator, samples, None);
-    image.pixels.iter().sum::<Rgb>() / image.pixels.len() as f32
-}
-
-/// The scene rendered by `integrator` with `samples` samples per pixel or passes, at `size`
-/// (default: the scene's).
-fn render(
-    scene: &photon::scene::Scene,
-    integrator: &str,
-    samples: u32,
-    size: Option<(u32, u32)>,
-) -> photon::film::Image {
-    let kind = match integrator {
-        "path" => IntegratorKind::Path,
-        "direct" => IntegratorKind::Direct,
-        "sppm" => IntegratorKind::Sppm,
-        "ppm" => IntegratorKind::Ppm,
-        _ => unreachable!("the photon integrator does not render media"),
-    };
-    let options = if kind.is_progressive() {
-        photon::settings::RenderOptions {
-            integrator: Some(kind),
-            passes: Some(u64::from(samples)),
-            photons_per_pass: Some(20_000),
-            // Balls of radius 0.1 (four times this), well inside the sphere: near the wall a
-            // ball reaches past it and finds fewer photons, the boundary bias every density
-            // estimate has.
-            radius: Some(0.025),
-            ..Default::default()
-        }
-    } else {
-        photon::settings::RenderOptions {
-            integrator: Some(kind),
-            spp: Some(samples),
-            ..Default::default()
-        }
-    };
-    let options = photon::settings::RenderOptions {
-        width: size.map(|s| s.0),
-        height: size.map(|s| s.1),
-        ..options
-    };
-    let job = photon::render_job::RenderJob::new(scene, &Default::default(), options)
-        .unwrap_or_else(|e| panic!("{e}"));
-    job.render(&|_| {}, &std::sync::atomic::AtomicBool::new(false))
-        .expect("renders")
-        .image
-}
 
 /// A camera in an absorbing atmosphere (σa = 0.1) looking through an invisible box of
 /// coloured absorbing medium 1 m thick at a two-sided emitter of radiance 1, 5 m away:

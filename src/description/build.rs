@@ -17,7 +17,7 @@ use crate::material::{
     Conductor, ConductorFresnel, Dielectric, Lambertian, Material, Mirror, Pbr, RoughDielectric,
 };
 use crate::math::{Rgb, Vec3};
-use crate::medium::{Boundary, HenyeyGreenstein, Homogeneous, MediumId};
+use crate::medium::{Boundary, GridMedium, HenyeyGreenstein, Homogeneous, MediumId, grid_file};
 use crate::modeling::PolyMesh;
 use crate::modeling::pot::{PotParams, pot};
 use crate::scene::{Emission, Scene, SceneBuilder, TextureMaps, TriangleMesh};
@@ -153,11 +153,21 @@ fn add_media<'a>(b: &mut SceneBuilder, desc: &'a SceneDesc) -> Result<Media<'a>>
         atmosphere: None,
     };
     for (name, m) in &desc.media {
-        let id = b.medium(Homogeneous {
-            sigma_a: m.sigma_a,
-            sigma_s: m.sigma_s,
-            phase: HenyeyGreenstein::new(m.g),
-        });
+        let phase = HenyeyGreenstein::new(m.g);
+        let id = match &m.grid {
+            None => b.medium(Homogeneous {
+                sigma_a: m.sigma_a,
+                sigma_s: m.sigma_s,
+                phase,
+            }),
+            Some(g) => {
+                let file = grid_file::read(&desc.base_dir.join(&g.file), &g.name)?;
+                let placement = super::compose(&g.transform) * file.unit_to_world;
+                let medium = GridMedium::new(m.sigma_a, m.sigma_s, phase, file.grid, placement)
+                    .map_err(|e| Error::InvalidScene(format!("medium '{name}': {e}")))?;
+                b.medium(medium)
+            }
+        };
         media.ids.insert(name, id);
     }
     media.atmosphere = desc.medium.as_deref().map(|n| media.id(n)).transpose()?;

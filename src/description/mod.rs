@@ -86,14 +86,27 @@ pub enum MaterialSpec {
     Pbr(PbrSpec),
 }
 
-/// A homogeneous participating medium: absorption and scattering coefficients per scene unit
-/// of length, per channel, and the Henyey–Greenstein asymmetry of its scattering.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A participating medium: absorption and scattering coefficients per scene unit of length,
+/// per channel (per unit of density when a grid gives the density), and the
+/// Henyey–Greenstein asymmetry of its scattering.
+#[derive(Clone, Debug, PartialEq)]
 pub struct MediumSpec {
     pub sigma_a: Rgb,
     pub sigma_s: Rgb,
     /// In (−1, 1): −1 back, 0 isotropic, 1 forward.
     pub g: f32,
+    /// The density, when it varies: a voxel grid from a file.
+    pub grid: Option<GridSpec>,
+}
+
+/// A density grid in a file (`.vdb` or `.vol`, relative to the scene), the name of its grid
+/// (OpenVDB files hold several), and where to put it: `transform` applies after the file's
+/// own placement (OpenVDB's index-to-world map; the unit cube for `.vol`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridSpec {
+    pub file: PathBuf,
+    pub name: String,
+    pub transform: Vec<TransformStep>,
 }
 
 /// How a conductor reflects: a named metal, a complex index of refraction, or an F0 colour.

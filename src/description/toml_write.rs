@@ -120,6 +120,15 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
         w.kv("sigma_a", &vec3(m.sigma_a));
         w.kv("sigma_s", &vec3(m.sigma_s));
         w.kv("g", &float(m.g));
+        if let Some(g) = &m.grid {
+            let v = w.path(&g.file);
+            w.kv("grid", &v);
+            w.kv("grid_name", &string(&g.name));
+            if !g.transform.is_empty() {
+                let steps: Vec<String> = g.transform.iter().map(step).collect();
+                w.kv("transform", &format!("[{}]", steps.join(", ")));
+            }
+        }
     }
     for s in &desc.shapes {
         w.section("[[shapes]]");

@@ -17,6 +17,7 @@ pub(crate) fn light_sample_contribution(
     scene: &Scene,
     sp: &ShadingPoint,
     ls: &LightSample,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Option<(Rgb, f32)> {
     let wi_local = sp.frame.to_local(ls.wi);
@@ -26,7 +27,7 @@ pub(crate) fn light_sample_contribution(
     if f == Rgb::ZERO {
         return None;
     }
-    let value = shadowed(scene, sp, ls, f, stats);
+    let value = shadowed(scene, sp, ls, f, rng, stats);
     (value != Rgb::ZERO).then(|| (value, sp.material.pdf(sp.wo_local, wi_local)))
 }
 
@@ -37,13 +38,14 @@ pub(crate) fn shadowed(
     sp: &ShadingPoint,
     ls: &LightSample,
     f: Rgb,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
     if f == Rgb::ZERO {
         return Rgb::ZERO;
     }
     stats.shadow += 1;
-    let tr = visibility(scene, sp, ls);
+    let tr = visibility(scene, sp, ls, rng);
     if tr == Rgb::ZERO {
         return Rgb::ZERO;
     }
@@ -57,12 +59,12 @@ pub(crate) fn shadowed(
 /// unmoved point made the segment cross the light's own plane when a surface saw the light at
 /// a grazing angle, so the light shadowed itself (a patch beside a quad light lost 63% of its
 /// irradiance).
-fn visibility(scene: &Scene, sp: &ShadingPoint, ls: &LightSample) -> Rgb {
+fn visibility(scene: &Scene, sp: &ShadingPoint, ls: &LightSample, rng: &mut impl Sampler) -> Rgb {
     let hit = sp.hit;
     let origin = offset_origin(hit.p, hit.ng, ls.wi);
     if scene.has_media() {
         let medium = scene.medium_after(hit, sp.medium, ls.wi);
-        return scene.transmittance(origin, light_end(ls, origin), medium);
+        return scene.transmittance(origin, light_end(ls, origin), medium, rng);
     }
     let free = if ls.is_delta {
         !scene.occluded(origin, ls.wi, (ls.point - origin).length())
@@ -97,14 +99,15 @@ fn in_scattered(
     scene: &Scene,
     mp: &MediumPoint,
     ls: &LightSample,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> (Rgb, f32) {
-    let phase = scene.medium(mp.medium).phase.eval(mp.wo, ls.wi);
+    let phase = scene.medium(mp.medium).phase().eval(mp.wo, ls.wi);
     if phase == 0.0 || ls.pdf == 0.0 {
         return (Rgb::ZERO, phase);
     }
     stats.shadow += 1;
-    let tr = scene.transmittance(mp.p, light_end(ls, mp.p), Some(mp.medium));
+    let tr = scene.transmittance(mp.p, light_end(ls, mp.p), Some(mp.medium), rng);
     (tr * ls.radiance * (phase / ls.pdf), phase)
 }
 
@@ -120,7 +123,7 @@ pub(crate) fn one_light_in_medium(
     let Some(ls) = light_by_power(scene, mp.p, rng) else {
         return Rgb::ZERO;
     };
-    let (value, phase_pdf) = in_scattered(scene, mp, &ls, stats);
+    let (value, phase_pdf) = in_scattered(scene, mp, &ls, rng, stats);
     if ls.is_delta {
         value
     } else {
@@ -148,7 +151,7 @@ pub(crate) fn direct_light_in_medium(
         for _ in 0..samples {
             let u_pick = rng.next_f32();
             if let Some(ls) = light.sample_li(mp.p, u_pick, rng.next_2d()) {
-                acc += in_scattered(scene, mp, &ls, stats).0;
+                acc += in_scattered(scene, mp, &ls, rng, stats).0;
             }
         }
         sum += acc / samples as f32;
@@ -240,7 +243,7 @@ pub(crate) fn direct_light(
                     _ => smooth,
                 };
             }
-            acc += shadowed(scene, sp, &ls, f, stats);
+            acc += shadowed(scene, sp, &ls, f, rng, stats);
         }
         sum += acc / samples as f32;
     }
@@ -356,7 +359,7 @@ pub(crate) fn one_light_by_power(
     let Some(ls) = light_by_power(scene, sp.hit.p, rng) else {
         return Rgb::ZERO;
     };
-    let Some((value, bsdf_pdf)) = light_sample_contribution(scene, sp, &ls, stats) else {
+    let Some((value, bsdf_pdf)) = light_sample_contribution(scene, sp, &ls, rng, stats) else {
         return Rgb::ZERO;
     };
     if ls.is_delta {

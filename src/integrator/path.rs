@@ -83,7 +83,7 @@ pub(super) fn radiance(
                     medium: m,
                 };
                 l += beta * one_light_in_medium(scene, &mp, rng, stats) * mis;
-                let s = scene.medium(m).phase.sample(mp.wo, rng.next_2d());
+                let s = scene.medium(m).phase().sample(mp.wo, rng.next_2d());
                 if !survives_roulette(c, depth, &mut beta, mis, rng) {
                     break;
                 }

@@ -72,7 +72,7 @@ pub struct VolumePhoton {
     pub position: Vec3,
     /// Unit direction toward where the photon came from.
     pub incoming: Vec3,
-    /// Power relative to the pass's scale, σs of the scattering included.
+    /// Power relative to the pass's scale, over σs where it scattered (see `trace`).
     pub power: Rgb,
     pub medium: MediumId,
 }

@@ -171,7 +171,7 @@ pub fn trace_indirect_photons(
                         Some(medium) => volume.push(VolumePhoton {
                             position: v.p,
                             incoming: v.wo,
-                            power: v.power,
+                            power: per_sigma_s(v.power, scene.medium(medium).sigma_s_at(v.p)),
                             medium,
                         }),
                         None => surface.push(PassPhoton {
@@ -364,6 +364,20 @@ struct PathContext<'a> {
     total_max: f32,
 }
 
+/// A volume photon's power over σs where it scattered, per channel (zero where σs is): the
+/// fluence it stands for. The photons of a ball then estimate the in-scattered radiance at its
+/// centre as Σ p Φ/σs over the ball's volume, which stays right where the density varies
+/// within the ball; dividing the sum by σs at the centre instead weights the photons by the
+/// centre's density (Jensen and Christensen 1998 write it for homogeneous media).
+fn per_sigma_s(power: Rgb, sigma_s: Rgb) -> Rgb {
+    let channel = |p: f32, s: f32| if s > 0.0 { p / s } else { 0.0 };
+    Rgb::new(
+        channel(power.x, sigma_s.x),
+        channel(power.y, sigma_s.y),
+        channel(power.z, sigma_s.z),
+    )
+}
+
 /// Follow one photon from its light until it is absorbed, escapes or reaches the maximum depth,
 /// calling `visit` at every rough surface it meets. `emission` holds the numbers that place it
 /// on its light (see [`emission_points`]); `rng` gives the rest.
@@ -436,7 +450,7 @@ fn trace_path(
                     return;
                 }
                 power /= survive;
-                let s = scene.medium(m).phase.sample(wo, rng.next_2d());
+                let s = scene.medium(m).phase().sample(wo, rng.next_2d());
                 specular_only = false;
                 smooth_last = false;
                 medium = Some(m);

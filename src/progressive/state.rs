@@ -539,10 +539,10 @@ fn for_each_slot(
 }
 
 /// Add every slot's in-scattered light from the photons in the ball of its volume point: the
-/// volume radiance estimate (Jensen and Christensen 1998), Σ p(wo, wi) ΔΦ / (σs · 4/3 π r³)
-/// over the photons of the point's medium, times the path's throughput (whose σs it divides
-/// out: photon powers and the path both carry one). Rows not started when `stopped()` are
-/// skipped.
+/// volume radiance estimate (Jensen and Christensen 1998), Σ p(wo, wi) ΔΦ/σs / (4/3 π r³)
+/// over the photons of the point's medium, each divided by σs where it scattered (see
+/// `photon::trace`), times the path's throughput, which carries σs at the point. Rows not
+/// started when `stopped()` are skipped.
 fn gather_volume(
     scene: &Scene,
     slots: &mut [PassSlot],
@@ -559,22 +559,11 @@ fn gather_volume(
         let mut sum = Rgb::ZERO;
         grid.for_each_within(v.vp.p, v.r, scratch, &mut |ph, _| {
             if ph.medium == v.vp.medium {
-                sum += ph.power * medium.phase.eval(v.vp.wo, ph.incoming);
+                sum += ph.power * medium.phase().eval(v.vp.wo, ph.incoming);
             }
         });
         let volume = 4.0 / 3.0 * PI * f64::from(v.r).powi(3);
-        let per_sigma = |x: f32, sigma_s: f32| {
-            if sigma_s > 0.0 {
-                (f64::from(x) * f64::from(scale) / (f64::from(sigma_s) * volume)) as f32
-            } else {
-                0.0
-            }
-        };
-        let estimate = Rgb::new(
-            per_sigma(sum.x, medium.sigma_s.x),
-            per_sigma(sum.y, medium.sigma_s.y),
-            per_sigma(sum.z, medium.sigma_s.z),
-        );
+        let estimate = sum * (f64::from(scale) / volume) as f32;
         let l = v.vp.beta * estimate;
         if l.is_finite() {
             slot.direct += l;

@@ -6,7 +6,7 @@ use crate::geometry::{Disk, Shape, Sphere, Triangle};
 use crate::light::{AreaLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
 use crate::material::{Attenuation, Material};
 use crate::math::{Rgb, Vec2, Vec3};
-use crate::medium::{Boundary, Homogeneous, MediumId};
+use crate::medium::{Boundary, Medium, MediumId};
 use crate::sampling::Distribution1D;
 use crate::texture::{MappedTexture, Texture, UvMapping};
 use glam::Affine3A;
@@ -70,7 +70,7 @@ pub struct SceneBuilder {
     camera: Option<CameraDesc>,
     resolution: (u32, u32),
     ray_engine: RayEngine,
-    media: Vec<Homogeneous>,
+    media: Vec<Medium>,
     atmosphere: Option<MediumId>,
 }
 
@@ -92,8 +92,8 @@ impl SceneBuilder {
     }
 
     /// Add a participating medium; returns its id for boundaries and the atmosphere.
-    pub fn medium(&mut self, m: Homogeneous) -> MediumId {
-        self.media.push(m);
+    pub fn medium(&mut self, m: impl Into<Medium>) -> MediumId {
+        self.media.push(m.into());
         (self.media.len() - 1) as MediumId
     }
 
@@ -515,14 +515,13 @@ impl SceneBuilder {
             return invalid("the scene's medium does not exist".into());
         }
         for (i, m) in self.media.iter().enumerate() {
-            let coefficients = [m.sigma_a, m.sigma_s];
-            if !coefficients
+            let (sigma_a, sigma_s) = m.coefficients();
+            if ![sigma_a, sigma_s]
                 .iter()
                 .all(|c| c.is_finite() && c.min_element() >= 0.0)
             {
                 return invalid(format!(
-                    "medium {i} has σa {} and σs {}: both must be finite and not negative",
-                    m.sigma_a, m.sigma_s
+                    "medium {i} has σa {sigma_a} and σs {sigma_s}: both must be finite and not negative"
                 ));
             }
         }

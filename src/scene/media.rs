@@ -8,7 +8,7 @@
 
 use super::Scene;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
-use crate::medium::{Boundary, Homogeneous, MediumId};
+use crate::medium::{Boundary, Medium, MediumId};
 use crate::sampling::Sampler;
 
 use super::Hit;
@@ -31,7 +31,7 @@ pub enum Interaction {
 
 /// [`Interaction`] with the factor the path's throughput takes on the way: transmittance
 /// over the density of the distance chosen, times σs at a scattering point (see
-/// [`Homogeneous::sample_free_flight`]), and each channel's density of the distances chosen
+/// [`Medium::sample_free_flight`]), and each channel's density of the distances chosen
 /// over the hero channel's, `ratio` (both exactly one in vacuum). `crossings` counts the
 /// boundaries crossed, each one more ray traced.
 #[derive(Clone, Copy, Debug)]
@@ -56,11 +56,11 @@ impl Scene {
         self.atmosphere
     }
 
-    pub fn medium(&self, id: MediumId) -> &Homogeneous {
+    pub fn medium(&self, id: MediumId) -> &Medium {
         &self.media[id as usize]
     }
 
-    pub fn media(&self) -> &[Homogeneous] {
+    pub fn media(&self) -> &[Medium] {
         &self.media
     }
 
@@ -119,7 +119,7 @@ impl Scene {
                 let m = self.medium(id);
                 let t_max = hit.map_or(f32::INFINITY, |h| h.t);
                 if m.scatters() {
-                    let flight = m.sample_free_flight(t_max, hero, sampler.next_f32());
+                    let flight = m.sample_free_flight(&ray, t_max, hero, sampler);
                     weight *= flight.weight;
                     ratio *= flight.ratio;
                     if flight.scattered {
@@ -134,7 +134,7 @@ impl Scene {
                         };
                     }
                 } else {
-                    weight *= m.transmittance(t_max);
+                    weight *= m.transmittance(&ray, t_max, sampler);
                 }
             }
             let Some(hit) = hit else {
@@ -166,8 +166,14 @@ impl Scene {
 
     /// The fraction of light that travels from `origin`, in `medium`, to `target`: zero if a
     /// surface is in the way, else the product of the media's transmittances over the
-    /// segments between the invisible boundaries crossed.
-    pub fn transmittance(&self, origin: Vec3, target: Vec3, mut medium: Option<MediumId>) -> Rgb {
+    /// segments between the invisible boundaries crossed (estimated with `sampler` in grids).
+    pub fn transmittance(
+        &self,
+        origin: Vec3,
+        target: Vec3,
+        mut medium: Option<MediumId>,
+        sampler: &mut impl Sampler,
+    ) -> Rgb {
         let mut tr = Rgb::ONE;
         let mut from = origin;
         for _ in 0..=MAX_CROSSINGS {
@@ -176,17 +182,17 @@ impl Scene {
             if dist.is_nan() || dist <= 0.0 {
                 return tr;
             }
-            let dir = d / dist;
-            let hit = self.intersect(&Ray::new(from, dir), dist);
+            let ray = Ray::new(from, d / dist);
+            let hit = self.intersect(&ray, dist);
             let travelled = hit.map_or(dist, |h| h.t);
             if let Some(id) = medium {
-                tr *= self.medium(id).transmittance(travelled);
+                tr *= self.medium(id).transmittance(&ray, travelled, sampler);
             }
             match hit {
                 None => return tr,
                 Some(h) if self.is_invisible(&h) => {
-                    medium = self.medium_after(&h, medium, dir);
-                    from = offset_origin(h.p, h.ng, dir);
+                    medium = self.medium_after(&h, medium, ray.dir);
+                    from = offset_origin(h.p, h.ng, ray.dir);
                 }
                 Some(_) => return Rgb::ZERO,
             }

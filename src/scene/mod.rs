@@ -138,7 +138,7 @@ pub struct Scene {
     lights: Vec<Light>,
     light_choice: Option<Distribution1D>,
     /// The participating media, indexed by [`crate::medium::MediumId`].
-    media: Vec<crate::medium::Homogeneous>,
+    media: Vec<crate::medium::Medium>,
     /// The boundary each primitive is part of (the default, none, on the others); empty when
     /// no shape bounds a medium.
     prim_boundary: Vec<crate::medium::Boundary>,

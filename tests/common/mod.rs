@@ -7,6 +7,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+pub mod media;
+
 /// Run the `photon` binary with `args` in `dir`.
 pub fn photon(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_photon"))

@@ -1,14 +1,23 @@
 //! Participating media: `[media.NAME]` tables and the shapes that bound them.
 
 use super::values::Table;
-use crate::description::{MediaSides, MediumSpec};
+use crate::description::{GridSpec, MediaSides, MediumSpec};
 use crate::error::Result;
 use crate::math::Rgb;
 
 /// A medium, given by its coefficients (`sigma_a`, `sigma_s`) or, as Mitsuba writes it, by
 /// its single-scattering `albedo` and `density` (σt), with the Henyey–Greenstein `g`.
 pub(super) fn medium(t: &Table) -> Result<MediumSpec> {
-    t.allow(&["sigma_a", "sigma_s", "albedo", "density", "g"])?;
+    t.allow(&[
+        "sigma_a",
+        "sigma_s",
+        "albedo",
+        "density",
+        "g",
+        "grid",
+        "grid_name",
+        "transform",
+    ])?;
     let by_coefficients = t.get("sigma_a").is_some() || t.get("sigma_s").is_some();
     let by_albedo = t.get("albedo").is_some() || t.get("density").is_some();
     let at_start = t.span.start..t.span.start + 1;
@@ -52,7 +61,31 @@ pub(super) fn medium(t: &Table) -> Result<MediumSpec> {
         sigma_a,
         sigma_s,
         g,
+        grid: grid(t)?,
     })
+}
+
+/// `grid = "FILE"` with its optional `grid_name` (default "density") and `transform`.
+fn grid(t: &Table) -> Result<Option<GridSpec>> {
+    let Some(file) = t.get("grid") else {
+        for key in ["grid_name", "transform"] {
+            if let Some(v) = t.get(key) {
+                return Err(t.cx.err(
+                    v.span(),
+                    format!("{} places a grid: give 'grid' too", t.label(key)),
+                ));
+            }
+        }
+        return Ok(None);
+    };
+    Ok(Some(GridSpec {
+        file: t.cx.file(file, &t.label("grid"))?,
+        name: t.opt_str("grid_name")?.unwrap_or("density").to_owned(),
+        transform: match t.get("transform") {
+            Some(v) => super::shapes::transform(t.cx, v)?,
+            None => Vec::new(),
+        },
+    }))
 }
 
 /// A shape's `interior` and `exterior` media, if it names either.
