@@ -32,13 +32,18 @@ Conventions (checked scene by scene against Photon's `path` integrator, see READ
   `constant` for a uniform radiance. The sky image comes from make_sky.py.
 
 Participating media (the scenes fog-spot, fog-box, absorbing-water, thick-medium,
-volumetric-caustic; Mitsuba integrator `volpath`, max_depth -1, chosen automatically when a scene
-defines a medium, `Scene.integrator` overrides it):
+volumetric-caustic, smoke-grid; Mitsuba integrator `volpath`, max_depth -1, chosen automatically
+when a scene defines a medium, `Scene.integrator` overrides it):
 - Photon `[media.NAME]` with `sigma_a`, `sigma_s` (per scene unit, number or RGB) and `g`, or
   Mitsuba's form `albedo` + `density` (sigma_s = albedo * density, sigma_a = (1 - albedo) *
   density) = Mitsuba `homogeneous` with sigma_t = sigma_a + sigma_s and albedo = sigma_s /
   sigma_t per channel. Mitsuba wants RGB values in [0, 1]: a coloured sigma_t is written as the
   colour over its largest channel times `scale` (a grey one as a float).
+- a grid medium (`grid`, `grid_name`, `transform` in `[media.NAME]`: the coefficients per unit
+  density) = Mitsuba `heterogeneous` with a `gridvolume` sigma_t read from a .vol of the same
+  dense box (vdb_to_vol.py converts a .vdb), `scale` = sigma_t per unit density (grey), the
+  albedo as above; the gridvolume's to_world = Photon's transform x the file's own placement
+  (class Grid). The medium's boundary coincides with the grid's cube (density zero outside).
 - phase: g != 0 = Mitsuba `hg` with `g` written always (Mitsuba's default g is 0.8, not 0);
   g = 0 = `isotropic`. Both put g > 0 forward (checked: hg's value for the straight-on direction
   is (1 - g^2) / (4 pi (1 - g)^3)).
@@ -194,6 +199,40 @@ def rgb3(c):
 
 
 # --------------------------------------------------------------------------------------------
+# Density grids
+
+
+class Grid:
+    """A density grid of a heterogeneous medium, placed alike in both renderers.
+
+    Both fill the unit cube with the grid (voxel (i, j, k) of n_x x n_y x n_z centred at
+    ((i + 1/2) / n_x, ...), trilinear between centres, held flat to the faces). Photon reads
+    `file` (with `grid_name`): a .vdb puts the cube over the active voxels' box in the file's
+    world (`file_placement`, the 4 x 4 unit-cube-to-file-world affine vdb_to_vol.py prints), a
+    .vol in its own space (identity); then Photon's `transform` (a list of tables, `compose`)
+    applies. Mitsuba reads `vol_file`, the same dense box as a .vol (vdb_to_vol.py), with the
+    gridvolume's to_world = compose(transform) x file_placement."""
+
+    def __init__(self, file, vol_file, transform, file_placement=None, name="density"):
+        self.file = file
+        self.vol_file = vol_file
+        self.name = name
+        self.transform = transform
+        self.file_placement = file_placement or identity()
+
+    def unit_to_world(self):
+        return matmul(compose(self.transform), self.file_placement)
+
+    def world_box(self):
+        """The unit cube's (min, max) corners in the world; it must stay axis-aligned."""
+        m = self.unit_to_world()
+        for i in range(3):
+            assert sum(abs(m[i][j]) > 1e-12 for j in range(3)) == 1, "the grid's cube is not axis-aligned"
+        corners = [xform_point(m, [float(c >> a & 1) for a in range(3)]) for c in range(8)]
+        return [min(p[i] for p in corners) for i in range(3)], [max(p[i] for p in corners) for i in range(3)]
+
+
+# --------------------------------------------------------------------------------------------
 # Scene description
 
 
@@ -237,10 +276,11 @@ class Scene:
         self.materials[name] = dict(type="pbr", base_color=base_color, metallic=metallic, roughness=roughness)
 
     # media ---------------------------------------------------------------------------------
-    def define_medium(self, name, sigma_a=None, sigma_s=None, g=0.0, albedo=None, density=None):
-        """A homogeneous medium `[media.NAME]`: either sigma_a and sigma_s (per scene unit, a
-        number or RGB), or Mitsuba's albedo (number or RGB) and density (a number). g is the
-        Henyey-Greenstein asymmetry (0: isotropic)."""
+    def define_medium(self, name, sigma_a=None, sigma_s=None, g=0.0, albedo=None, density=None, grid=None):
+        """A medium `[media.NAME]`: either sigma_a and sigma_s (per scene unit, a number or RGB),
+        or Mitsuba's albedo (number or RGB) and density (a number). g is the Henyey-Greenstein
+        asymmetry (0: isotropic). Homogeneous, or with `grid` (a `Grid`) heterogeneous: the
+        coefficients are per unit of the grid's density."""
         assert (albedo is None) == (density is None) and (albedo is None) != (sigma_a is None and sigma_s is None)
         assert -1.0 < g < 1.0
         if albedo is not None:
@@ -248,8 +288,12 @@ class Scene:
             ss = [a * density for a in rgb3(albedo)]
         else:
             sa, ss = rgb3(sigma_a or 0.0), rgb3(sigma_s or 0.0)
+        if grid is not None:
+            # Mitsuba's heterogeneous sigma_t is the grid times a float `scale`: a grey extinction.
+            sigma_t = [a + b for a, b in zip(sa, ss)]
+            assert max(sigma_t) > 0 and max(sigma_t) == min(sigma_t), "grid media need a grey sigma_t"
         self.media[name] = dict(sigma_a=sigma_a, sigma_s=sigma_s, albedo=albedo, density=density, g=g,
-                                sa=sa, ss=ss)
+                                sa=sa, ss=ss, grid=grid)
 
     def set_medium(self, name):
         """The scene's medium (Photon's top-level `medium`). Call before adding shapes and lights:
@@ -602,6 +646,12 @@ class Scene:
                 out.append(f"sigma_a = {tvec(m['sigma_a'] or 0.0)}")
                 out.append(f"sigma_s = {tvec(m['sigma_s'] or 0.0)}")
             out.append(f"g = {fnum(m['g'])}")
+            if m["grid"] is not None:
+                gr = m["grid"]
+                out.append(f'grid = "{gr.file}"')
+                out.append(f'grid_name = "{gr.name}"')
+                if gr.transform:
+                    out.append("transform = " + toml_transform(gr.transform))
             out.append("")
         for toml, _ in self.shapes + self.lights:
             out += toml + [""]
@@ -646,6 +696,13 @@ class Scene:
             # Mitsuba's hg defaults to g = 0.8: always written.
             phase = (f'<phase type="hg"><float name="g" value="{fnum(m["g"])}"/></phase>' if m["g"]
                      else '<phase type="isotropic"/>')
+            if m["grid"] is not None:
+                gr = m["grid"]
+                st = (f'<volume name="sigma_t" type="gridvolume"><string name="filename" value="{gr.vol_file}"/>'
+                      f'<transform name="to_world"><matrix value="{xmatrix(gr.unit_to_world())}"/></transform>'
+                      f'</volume><float name="scale" value="{fnum(tmax)}"/>')
+                out.append(f'<medium type="heterogeneous" id="{name}">{st}{al}{phase}</medium>')
+                continue
             out.append(f'<medium type="homogeneous" id="{name}">{st}{al}{phase}</medium>')
         out += [
             '<sensor type="perspective">',
@@ -1311,6 +1368,76 @@ quad light (out of the frame), with many scattering events per path. A blue sphe
     return s
 
 
+# The density grid of tests/fixtures/vdb/smoke_blosc_half_f24.vdb, as vdb_to_vol.py prints it:
+# 26 x 17 x 36 active voxels from index (5, 11, 2), UniformScaleMap of voxel size 0.05 (float32
+# 0.05 in the file: 7e-10 more, i.e. Photon's cube is 1e-8 larger in relative terms: nothing).
+SMOKE_VDB = os.path.join(ROOT, "tests", "fixtures", "vdb", "smoke_blosc_half_f24.vdb")
+SMOKE_RES = (26, 17, 36)
+SMOKE_INDEX_MIN = (5, 11, 2)
+SMOKE_VOXEL = 0.05
+
+
+def smoke_grid():
+    s = Scene("smoke-grid", """
+A heterogeneous medium on a voxel grid: a smoke plume (tests/fixtures/vdb/smoke_blosc_half_f24.vdb,
+written with Blender 4.5's cache writer: grid "density", 26 x 17 x 36 active voxels of 0.05,
+half floats, Blosc; values up to 0.995, mean 0.086) standing on the floor under a ceiling quad
+light (out of the frame), a blue sphere beside it. Photon reads smoke.vdb (`grid`), Mitsuba
+smoke.vol, the same dense box over the active voxels written by vdb_to_vol.py (`heterogeneous`
+medium, `gridvolume` sigma_t): both fill the grid's unit cube, trilinear between voxel centres.
+The file's z-up cube (1.3 x 0.85 x 1.8 in its world) is scaled by 0.44, turned -90 degrees about
+x (z up -> y up) and moved so that it stands 1 cm above the floor: 0.572 x 0.792 x 0.374. An
+invisible box (no material; Mitsuba: null BSDF) coincides with the cube and bounds the medium, so
+neither renderer looks outside the cube. Albedo 0.92 0.9 0.86 (a warm grey), density scale 20
+per unit (sigma_t = 20 x grid value): optical depth up to about 4 across the plume's trunk, 11
+down its length; Henyey-Greenstein g 0.3.""")
+    room_materials(s)
+    s.diffuse("blue", [0.15, 0.25, 0.7])
+    nx, ny, nz = SMOKE_RES
+    file_placement = [
+        [nx * SMOKE_VOXEL, 0.0, 0.0, (SMOKE_INDEX_MIN[0] - 0.5) * SMOKE_VOXEL],
+        [0.0, ny * SMOKE_VOXEL, 0.0, (SMOKE_INDEX_MIN[1] - 0.5) * SMOKE_VOXEL],
+        [0.0, 0.0, nz * SMOKE_VOXEL, (SMOKE_INDEX_MIN[2] - 0.5) * SMOKE_VOXEL],
+        [0.0, 0.0, 0.0, 1.0],
+    ]
+    # Scaled and turned z-up to y-up; then moved so that the cube's lowest corner lands at
+    # (-0.536, 0.01, -0.187): centred on x = -0.25, z = 0, its bottom 1 cm above the floor.
+    turn = {"scale": 0.44, "rotate": {"axis": [1.0, 0.0, 0.0], "angle": -90.0}}
+    lo, _ = Grid("", "", [turn], file_placement).world_box()
+    translate = [round(t - l, 9) for t, l in zip([-0.536, 0.01, -0.187], lo)]
+    grid = Grid("smoke.vdb", "smoke.vol", [dict(turn, translate=translate)], file_placement)
+    s.define_medium("smoke", albedo=[0.92, 0.9, 0.86], density=20.0, g=0.3, grid=grid)
+    low_camera(s)
+    room(s)
+    y = 2.0 - 1e-3
+    s.quad([[-0.3, y, -0.3], [0.3, y, -0.3], [0.3, y, 0.3], [-0.3, y, 0.3]], emission=("power", 14.0), light=True)
+    lo, hi = grid.world_box()
+    s.box([round(h - l, 9) for l, h in zip(lo, hi)], None, translate=[round((l + h) / 2, 9) + 0.0 for l, h in zip(lo, hi)],
+          interior="smoke")
+    s.sphere([0.45, 0.2, 0.15], 0.2, "blue")
+    smoke_assets(s)
+    s.ref_spp = 6144
+    return s
+
+
+def smoke_assets(s):
+    """smoke.vdb (the test fixture) and smoke.vol (vdb_to_vol.py, which needs bpy: run with the
+    Python of $BPY_PYTHON, default this one, unless the file exists)."""
+    with open(SMOKE_VDB, "rb") as f:
+        s.assets["smoke.vdb"] = f.read()
+    vol = os.path.join(HERE, s.name, "smoke.vol")
+    if not os.path.exists(vol):
+        import subprocess
+
+        os.makedirs(os.path.dirname(vol), exist_ok=True)
+        python = os.environ.get("BPY_PYTHON", sys.executable)
+        subprocess.run([python, os.path.join(HERE, "vdb_to_vol.py"), SMOKE_VDB, vol], check=True)
+    with open(vol, "rb") as f:
+        head = f.read(48)
+    dims = struct.unpack("<3i", head[8:20])
+    assert head[:4] == b"VOL\x03" and dims == SMOKE_RES, (vol, head[:4], dims)
+
+
 def volumetric_caustic():
     s = Scene("volumetric-caustic", """
 A volumetric caustic, for an equal-time study rather than a unit test: thin fog fills a closed,
@@ -1355,7 +1482,8 @@ SCENES = {
     f.__name__.replace("_", "-"): f
     for f in [point_light, spot_light, directional, grazing_area, curved_ceiling, glass_caustics,
               indirect_only, textured_mesh, millimetres, light_strip, glossy_cornell, env_spheres,
-              glossy_floor_spot, fog_spot, fog_box, absorbing_water, thick_medium, volumetric_caustic]
+              glossy_floor_spot, fog_spot, fog_box, absorbing_water, thick_medium, volumetric_caustic,
+              smoke_grid]
 }
 
 

@@ -161,7 +161,10 @@ fn add_media<'a>(b: &mut SceneBuilder, desc: &'a SceneDesc) -> Result<Media<'a>>
                 phase,
             }),
             Some(g) => {
-                let file = grid_file::read(&desc.base_dir.join(&g.file), &g.name)?;
+                let path = desc.base_dir.join(&g.file);
+                let format = grid_file::GridFormat::of(&path)?;
+                let bytes = crate::io::input::read_file(&path)?;
+                let file = grid_file::parse(&path, format, &bytes, &g.name)?;
                 let placement = super::compose(&g.transform) * file.unit_to_world;
                 let medium = GridMedium::new(m.sigma_a, m.sigma_s, phase, file.grid, placement)
                     .map_err(|e| Error::InvalidScene(format!("medium '{name}': {e}")))?;

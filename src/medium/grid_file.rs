@@ -1,7 +1,7 @@
-//! Density grids from files: OpenVDB (`.vdb`, what Blender bakes smoke and fluids to) and
-//! Mitsuba's binary volume format (`.vol`). Both are untrusted input: every size is checked
-//! against the file before anything is allocated, and a grid may hold at most
-//! [`MAX_VOXELS`] voxels.
+//! Density grids from the bytes of files: OpenVDB (`.vdb`, what Blender bakes smoke and
+//! fluids to) and Mitsuba's binary volume format (`.vol`). Both are untrusted input: every
+//! size is checked against the file before anything is allocated, and a grid may hold at most
+//! [`MAX_VOXELS`] voxels. The scene description reads the files (through `io::input`).
 
 use super::{DensityGrid, MAX_VOXELS};
 use crate::error::{Diagnostic, Error, Result};
@@ -16,23 +16,39 @@ pub struct GridFile {
     pub unit_to_world: Affine3A,
 }
 
-/// Read the float grid `name` of a `.vdb` file, or the single-channel grid of a `.vol` file
-/// (which has no names: `name` is not used).
-pub fn read(path: &Path, name: &str) -> Result<GridFile> {
-    let fail = |message: String| Error::SceneFile(Box::new(Diagnostic::whole_file(path, message)));
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if !matches!(ext.as_deref(), Some("vdb" | "vol")) {
-        return Err(fail(
-            "unsupported grid format; expected .vdb (OpenVDB) or .vol (Mitsuba)".into(),
-        ));
+/// The formats grids are read from, by the file's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GridFormat {
+    /// OpenVDB.
+    Vdb,
+    /// Mitsuba's binary volume.
+    Vol,
+}
+
+impl GridFormat {
+    pub fn of(path: &Path) -> Result<Self> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("vdb") => Ok(GridFormat::Vdb),
+            Some("vol") => Ok(GridFormat::Vol),
+            _ => Err(Error::SceneFile(Box::new(Diagnostic::whole_file(
+                path,
+                "unsupported grid format; expected .vdb (OpenVDB) or .vol (Mitsuba)",
+            )))),
+        }
     }
-    let bytes = std::fs::read(path).map_err(|e| fail(format!("cannot read the grid: {e}")))?;
-    match ext.as_deref() {
-        Some("vdb") => read_vdb(&bytes, name).map_err(fail),
-        _ => read_vol(&bytes).map_err(fail),
+}
+
+/// The float grid `name` of the `.vdb` file `path` whose content is `bytes`, or the
+/// single-channel grid of a `.vol` file (which has no names: `name` is not used).
+pub fn parse(path: &Path, format: GridFormat, bytes: &[u8], name: &str) -> Result<GridFile> {
+    let fail = |message: String| Error::SceneFile(Box::new(Diagnostic::whole_file(path, message)));
+    match format {
+        GridFormat::Vdb => read_vdb(bytes, name).map_err(fail),
+        GridFormat::Vol => read_vol(bytes).map_err(fail),
     }
 }
 
