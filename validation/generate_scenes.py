@@ -1412,8 +1412,9 @@ down its length; Henyey-Greenstein g 0.3.""")
     y = 2.0 - 1e-3
     s.quad([[-0.3, y, -0.3], [0.3, y, -0.3], [0.3, y, 0.3], [-0.3, y, 0.3]], emission=("power", 14.0), light=True)
     lo, hi = grid.world_box()
-    s.box([round(h - l, 9) for l, h in zip(lo, hi)], None, translate=[round((l + h) / 2, 9) + 0.0 for l, h in zip(lo, hi)],
-          interior="smoke")
+    size = [round(h - l, 9) for l, h in zip(lo, hi)]
+    centre = [round((l + h) / 2, 9) + 0.0 for l, h in zip(lo, hi)]  # + 0.0: no "-0.0"
+    s.box(size, None, translate=centre, interior="smoke")
     s.sphere([0.45, 0.2, 0.15], 0.2, "blue")
     smoke_assets(s)
     s.ref_spp = 6144
