@@ -118,13 +118,6 @@ impl<'s> RenderJob<'s> {
             .or(scene_settings.integrator)
             .unwrap_or(defaults::INTEGRATOR);
         options.check_each(integrator).map_err(setting_error)?;
-        if scene.has_media() && !integrator.renders_media() {
-            return Err(setting_error(SettingError {
-                name: "integrator",
-                value: Some(integrator.name().into()),
-                problem: "does not render participating media, which the scene has (path, direct, sppm and ppm do)".into(),
-            }));
-        }
         let mut options = options;
         options.fill_from_scene(scene_settings, integrator);
         options.check_values().map_err(setting_error)?;

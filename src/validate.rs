@@ -34,11 +34,6 @@ pub enum Method {
 impl Method {
     pub const ALL: [Method; 4] = [Method::Path, Method::Photon, Method::Sppm, Method::Ppm];
 
-    /// Whether it renders `scene`: the two-pass photon integrator keeps no photons in media.
-    pub fn renders(self, scene: &Scene) -> bool {
-        !(self == Method::Photon && scene.has_media())
-    }
-
     pub fn name(self) -> &'static str {
         match self {
             Method::Path => "path",

@@ -7,18 +7,17 @@
 use photon::validate::{Budget, Method, find_cases, load_case, run};
 use std::path::Path;
 
-/// relMSE bounds per scene for (path, photon, sppm, ppm) at `Budget::QUICK`; 0 where the
-/// integrator does not render the scene (the photon integrator and media).
+/// relMSE bounds per scene for (path, photon, sppm, ppm) at `Budget::QUICK`.
 const BOUNDS: &[(&str, [f64; 4])] = &[
     ("absorbing-glass", [0.0018, 0.012, 0.03, 0.027]),
-    ("absorbing-water", [0.0004, 0.0, 0.015, 0.015]),
+    ("absorbing-water", [0.0004, 0.005, 0.015, 0.015]),
     ("alpha-fence", [0.0026, 0.006, 0.033, 0.03]),
     ("curved-ceiling", [0.0004, 0.005, 0.015, 0.015]),
     ("directional", [0.0002, 0.0035, 0.009, 0.01]),
     ("env-spheres", [0.0008, 0.016, 0.022, 0.028]),
     ("flush-light", [0.012, 0.029, 0.09, 0.094]),
-    ("fog-box", [0.0003, 0.0, 0.022, 0.022]),
-    ("fog-spot", [0.018, 0.0, 0.04, 0.04]),
+    ("fog-box", [0.0003, 0.006, 0.022, 0.022]),
+    ("fog-spot", [0.018, 0.006, 0.04, 0.04]),
     ("glass-caustics", [0.025, 0.045, 0.065, 0.06]),
     ("glossy-cornell", [0.0022, 0.018, 0.016, 0.015]),
     ("glossy-floor-spot", [0.0016, 0.011, 0.019, 0.018]),
@@ -29,11 +28,11 @@ const BOUNDS: &[(&str, [f64; 4])] = &[
     ("normal-mapped", [0.001, 0.006, 0.025, 0.02]),
     ("point-light", [0.002, 0.022, 0.037, 0.035]),
     ("rough-glass", [0.005, 0.012, 0.022, 0.021]),
-    ("smoke-grid", [0.0001, 0.0, 0.017, 0.016]),
+    ("smoke-grid", [0.0001, 0.0045, 0.017, 0.016]),
     ("smooth-box", [0.0033, 0.025, 0.19, 0.26]),
     ("spot-light", [0.0015, 0.017, 0.025, 0.021]),
     ("textured-mesh", [0.0004, 0.007, 0.018, 0.02]),
-    ("thick-medium", [0.0002, 0.0, 0.019, 0.019]),
+    ("thick-medium", [0.0002, 0.0045, 0.019, 0.019]),
 ];
 
 #[test]
@@ -51,10 +50,6 @@ fn every_scene_matches_its_reference_with_every_integrator() {
     for (case, (_, bounds)) in cases.iter().zip(BOUNDS) {
         let loaded = load_case(case, budget.size).expect("loads");
         for (method, bound) in Method::ALL.into_iter().zip(bounds) {
-            if !method.renders(&loaded.scene) {
-                assert_eq!(*bound, 0.0, "{} {}", case.name, method.name());
-                continue;
-            }
             let o = run(case, &loaded, method, &budget).expect("renders");
             let c = &o.comparison;
             let tolerance = if method == Method::Path { 0.01 } else { 0.02 };

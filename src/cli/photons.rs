@@ -122,6 +122,12 @@ fn check_extension(path: &Path, ext: &str) -> Result<()> {
 fn trace(a: &TraceArgs) -> Result<()> {
     check_extension(&a.output, "phm")?;
     let (scene, _, _) = super::scene(&a.scene)?;
+    if scene.has_media() {
+        return Err(photon::error::Error::InvalidScene(
+            photon::photon::SAVED_MAPS_AND_MEDIA.into(),
+        )
+        .into());
+    }
     let config = PhotonConfig {
         photons: a.photons,
         global_photons: a.global_photons,

@@ -23,12 +23,14 @@ use super::lighting::{direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::{Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
+use crate::medium::{MediumId, TransmittanceProfile};
 use crate::photon::IrradianceCache;
+use crate::photon::beam::VolumePhotonMap;
 use crate::photon::cache::estimate_apart_from_sites;
 use crate::photon::estimate::{self, GatherParams, Kernel, Selection};
 use crate::photon::{MapKind, PhotonMap, PhotonMaps};
 use crate::sampling::Rng;
-use crate::scene::Scene;
+use crate::scene::{MAX_CROSSINGS, Scene};
 use std::f32::consts::FRAC_1_PI;
 use std::sync::Arc;
 
@@ -54,6 +56,8 @@ struct Vertex {
     depth: u32,
     first: bool,
     arrival: Option<(Vec3, f32)>,
+    /// The medium the path is in.
+    medium: Option<MediumId>,
 }
 
 /// Render-time parameters of the photon integrator.
@@ -126,6 +130,8 @@ pub struct PhotonIntegrator {
     /// lobe (see [`Self::final_gather`]), in a map of their own so that their sparse
     /// estimates do not search through the others.
     after_smooth: Option<Arc<PhotonMap>>,
+    /// The photons scattered in media, for the beam radiance estimate (none without media).
+    volume: Option<Arc<VolumePhotonMap>>,
 }
 
 impl PhotonIntegrator {
@@ -156,11 +162,21 @@ impl PhotonIntegrator {
                 maps.global.power_scale,
             ))
         });
+        // Volume photons take the global map's k and largest radius for their spheres.
+        let volume = (!maps.volume.is_empty()).then(|| {
+            Arc::new(VolumePhotonMap::build(
+                maps.volume.clone(),
+                settings.global.k,
+                settings.global.max_radius,
+                maps.global.power_scale,
+            ))
+        });
         Self {
             settings,
             maps,
             cache,
             after_smooth,
+            volume,
         }
     }
 
@@ -185,6 +201,7 @@ impl PhotonIntegrator {
             depth: 0,
             first: true,
             arrival: None,
+            medium: scene.atmosphere(),
         };
         let mut s = self.trace(scene, ray, start, rng, stats);
         s.indirect *= self.settings.indirect_scale;
@@ -200,12 +217,43 @@ impl PhotonIntegrator {
         rng: &mut Rng,
         stats: &mut RayStats,
     ) -> Sample {
+        let light_samples = self.settings.light_samples;
+        let passage = self.through_media(scene, ray, at.medium, rng, stats);
+        let mut out = match passage.hit {
+            None => Sample {
+                direct: escaped_radiance(light_samples, scene, ray.dir, at.arrival.map(|a| a.1)),
+                ..Sample::default()
+            },
+            Some(hit) => {
+                let at = Vertex {
+                    medium: passage.medium,
+                    ..at
+                };
+                self.shade(scene, ray, &hit, at, rng, stats)
+            }
+        };
+        if scene.has_media() {
+            out.direct *= passage.transmittance;
+            out.caustic *= passage.transmittance;
+            out.indirect = out.indirect * passage.transmittance + passage.in_scattered;
+        }
+        out
+    }
+
+    /// What a camera path finds at the surface `hit` it reached along `ray`: emission, direct
+    /// light, the caustic and indirect estimates, and what its smooth part brings.
+    fn shade(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: &crate::scene::Hit,
+        at: Vertex,
+        rng: &mut Rng,
+        stats: &mut RayStats,
+    ) -> Sample {
         let mut out = Sample::default();
         let light_samples = self.settings.light_samples;
-        let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
-            out.direct = escaped_radiance(light_samples, scene, ray.dir, at.arrival.map(|a| a.1));
-            return out;
-        };
+        let hit = *hit;
         let wo = -ray.dir;
         out.direct = scene.emitted(&hit, wo);
         if let Some((from, p_bsdf)) = at.arrival
@@ -213,7 +261,7 @@ impl PhotonIntegrator {
         {
             out.direct *= emission_weight(light_samples, scene, from, &hit, p_bsdf);
         }
-        let sp = ShadingPoint::new(scene, &hit, wo);
+        let sp = ShadingPoint::new(scene, &hit, wo).in_medium(at.medium);
         let m = &sp.material;
         let rough = m.has(Part::Rough);
         if rough && (at.first || out.albedo == Rgb::ZERO) {
@@ -300,6 +348,7 @@ impl PhotonIntegrator {
                     depth: at.depth + 1,
                     first: false,
                     arrival: b.glossy_pdf.map(|p| (sp.hit.p, p)),
+                    medium: scene.medium_after(sp.hit, at.medium, wi),
                 },
                 rng,
                 stats,
@@ -349,7 +398,7 @@ impl PhotonIntegrator {
         let (b_count, h_count) = (n_bsdf as f32, n_hot as f32);
         let m = &sp.material;
         let mut sum = Rgb::ZERO;
-        let mut trace = |wi: Vec3, stats: &mut RayStats| {
+        let mut trace = |wi: Vec3, rng: &mut Rng, stats: &mut RayStats| {
             let cos = wi.dot(sp.frame.n);
             if cos <= 0.0 {
                 return;
@@ -363,7 +412,8 @@ impl PhotonIntegrator {
                 return;
             }
             let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
-            sum += weight * self.gathered_radiance(scene, &ray, stats);
+            let medium = scene.medium_after(sp.hit, sp.medium, wi);
+            sum += weight * self.gathered_radiance(scene, &ray, medium, rng, stats);
         };
         // BSDF rays, stratified on a jittered grid when their count is a square (else in u).
         let side = (n_bsdf as f32).sqrt() as u32;
@@ -379,14 +429,14 @@ impl PhotonIntegrator {
             if let Some(s) =
                 m.sample_part(sp.wo_local, u_lobe, u, TransportMode::Radiance, Part::Rough)
             {
-                trace(sp.frame.to_world(s.wi), stats);
+                trace(sp.frame.to_world(s.wi), rng, stats);
             }
         }
         if let Some(h) = &hot {
             for k in 0..n_hot {
                 let u_cell = (k as f32 + rng.next_f32()) / h_count;
                 let wi = h.sample(u_cell, rng.next_2d());
-                trace(wi, stats);
+                trace(wi, rng, stats);
             }
         }
         let after_smooth = self.after_smooth.as_ref().map_or(Rgb::ZERO, |map| {
@@ -404,20 +454,80 @@ impl PhotonIntegrator {
         sum + after_smooth
     }
 
-    /// Radiance arriving along a gather ray from the rough part of the surface it hits, from
-    /// the photon maps; emission is left out (counted as direct or caustic), and so is the
-    /// light that the surface's smooth part sends (see [`Self::final_gather`]).
-    fn gathered_radiance(&self, scene: &Scene, ray: &Ray, stats: &mut RayStats) -> Rgb {
+    /// Radiance arriving along a gather ray (which starts in `medium`) from the rough part of
+    /// the surface it hits, from the photon maps, and from the media it crosses by the beam
+    /// estimate; emission is left out (counted as direct or caustic), and so is the light
+    /// that the surface's smooth part sends (see [`Self::final_gather`]).
+    fn gathered_radiance(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        medium: Option<MediumId>,
+        rng: &mut Rng,
+        stats: &mut RayStats,
+    ) -> Rgb {
         stats.bounce += 1;
-        let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
-            return Rgb::ZERO;
+        let passage = self.through_media(scene, ray, medium, rng, stats);
+        let Some(hit) = passage.hit else {
+            return passage.in_scattered;
         };
         let wo = -ray.dir;
         let (material, frame) = scene.surface(&hit, wo);
         if !material.has(Part::Rough) {
-            return Rgb::ZERO;
+            return passage.in_scattered;
         }
-        self.reflected_at(&hit, &frame, frame.to_local(wo), &material)
+        passage.transmittance * self.reflected_at(&hit, &frame, frame.to_local(wo), &material)
+            + passage.in_scattered
+    }
+
+    /// Follow `ray`, which starts in `medium`, to the first surface that is there, crossing
+    /// invisible boundaries: the transmittance to it and the light the media along the way
+    /// scatter toward the ray's origin, by the beam radiance estimate over each segment in a
+    /// medium. Without media: the closest hit, transmittance one, nothing drawn.
+    fn through_media(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        mut medium: Option<MediumId>,
+        rng: &mut Rng,
+        stats: &mut RayStats,
+    ) -> Passage {
+        let mut passage = Passage {
+            hit: scene.intersect(ray, f32::INFINITY),
+            medium,
+            transmittance: Rgb::ONE,
+            in_scattered: Rgb::ZERO,
+        };
+        if !scene.has_media() {
+            return passage;
+        }
+        let mut ray = *ray;
+        for _ in 0..=MAX_CROSSINGS {
+            let t_max = passage.hit.map_or(f32::INFINITY, |h| h.t);
+            if let Some(id) = medium {
+                let m = scene.medium(id);
+                let profile = m.transmittance_profile(&ray, t_max, rng);
+                if let Some(map) = self.volume.as_deref().filter(|_| m.scatters()) {
+                    let kernel = self.settings.global.kernel;
+                    passage.in_scattered += passage.transmittance
+                        * beam_estimate(scene, map, &ray, (t_max, id), &profile, kernel);
+                }
+                passage.transmittance *= profile.at(t_max);
+            }
+            match passage.hit {
+                Some(h) if scene.is_invisible(&h) => {
+                    medium = scene.medium_after(&h, medium, ray.dir);
+                    ray = Ray::new(offset_origin(h.p, h.ng, ray.dir), ray.dir);
+                    stats.bounce += 1;
+                    passage.hit = scene.intersect(&ray, f32::INFINITY);
+                    passage.medium = medium;
+                }
+                _ => return passage,
+            }
+        }
+        passage.hit = None;
+        passage.transmittance = Rgb::ZERO;
+        passage
     }
 
     /// Radiance reflected by the rough part at a gather ray's hit, from every photon: the
@@ -486,4 +596,44 @@ impl PhotonIntegrator {
             )),
         }
     }
+}
+
+/// Where a ray through media arrives (see [`PhotonIntegrator::through_media`]).
+struct Passage {
+    hit: Option<crate::scene::Hit>,
+    /// The medium the hit was reached through.
+    medium: Option<MediumId>,
+    transmittance: Rgb,
+    in_scattered: Rgb,
+}
+
+/// The beam radiance estimate over the segment of `ray` up to `t_max` in medium `id`
+/// (Jarosz et al. 2008): Σ K(d) σs(x) p(wo, wi) Φ/σs Tr(t) over the photons of that medium
+/// whose spheres the segment passes, x the point of the ray nearest the photon, at distance
+/// t and d from it, with the 2D kernel K normalised on the disc of each photon's radius (the
+/// global map's kernel). Photon powers are stored over σs where they scattered (see
+/// `photon::trace`).
+fn beam_estimate(
+    scene: &Scene,
+    map: &VolumePhotonMap,
+    ray: &Ray,
+    (t_max, id): (f32, MediumId),
+    profile: &TransmittanceProfile,
+    kernel: Kernel,
+) -> Rgb {
+    let medium = scene.medium(id);
+    let wo = -ray.dir;
+    let mut sum = Rgb::ZERO;
+    map.for_each_along(ray, 0.0, t_max, &mut |p, t, d2| {
+        if p.medium != id {
+            return;
+        }
+        let x = ray.at(t);
+        let weight = kernel.weight(d2, p.radius * p.radius);
+        sum += p.power
+            * medium.sigma_s_at(x)
+            * profile.at(t)
+            * (weight * medium.phase().eval(wo, p.incoming));
+    });
+    sum * map.power_scale
 }

@@ -63,8 +63,14 @@ fn bad(path: &Path, message: impl Into<String>) -> Error {
     }
 }
 
-/// Save maps atomically (temporary file, then rename).
+/// Save maps atomically (temporary file, then rename). Maps of a scene with media are
+/// refused: the format holds no volume photons.
 pub fn save(maps: &PhotonMaps, path: &Path) -> Result<()> {
+    if !maps.volume.is_empty() {
+        return Err(Error::InvalidScene(
+            crate::photon::SAVED_MAPS_AND_MEDIA.into(),
+        ));
+    }
     let header = Header {
         scene: maps.scene_name.clone(),
         scene_hash: format!("{:016x}", maps.scene_hash),
@@ -147,6 +153,7 @@ fn decode(bytes: &[u8]) -> std::result::Result<PhotonMaps, String> {
         },
         caustic: PhotonMap::from_tree_order(MapKind::Caustic, caustic, header.caustic_power_scale),
         global: PhotonMap::from_tree_order(MapKind::Global, global, header.global_power_scale),
+        volume: Vec::new(),
         stats: TraceStats {
             emitted: header.emitted,
             global_emitted: header.global_emitted,

@@ -259,6 +259,22 @@ impl GridMedium {
     /// An unbiased estimate of the transmittance along `ray` up to `t_max`, by ratio
     /// tracking.
     pub fn transmittance(&self, ray: &Ray, t_max: f32, sampler: &mut impl Sampler) -> Rgb {
+        let mut tr = Rgb::ONE;
+        self.ratio_track(ray, t_max, sampler, |_, t| tr = t);
+        tr
+    }
+
+    /// Ratio tracking along `ray` up to `t_max`, calling `step(t, Tr)` at each tentative
+    /// collision with the estimate so far. The running product is an unbiased estimate of the
+    /// transmittance to every distance at once (the collisions before t are those of a walk
+    /// to t), so one walk serves a whole segment; it ends at zero when roulette stops it.
+    pub fn ratio_track(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        sampler: &mut impl Sampler,
+        mut step: impl FnMut(f32, Rgb),
+    ) {
         let sigma_t = self.sigma_a + self.sigma_s;
         let mut tr = Rgb::ONE;
         let (o, d) = self.to_unit(ray);
@@ -273,14 +289,14 @@ impl GridMedium {
                 tr *= Rgb::ONE - sigma_t * (self.grid.at(o + d * t) / mu);
                 if tr.max_element() < ROULETTE_BELOW {
                     if sampler.next_f32() >= ROULETTE_SURVIVAL {
-                        tr = Rgb::ZERO;
+                        step(t, Rgb::ZERO);
                         return false;
                     }
                     tr /= ROULETTE_SURVIVAL;
                 }
+                step(t, tr);
             }
         });
-        tr
     }
 
     /// The ray in the unit cube's space: the same parameter `t` reaches the same point.

@@ -101,6 +101,48 @@ impl Medium {
     }
 }
 
+/// The transmittance from a segment's start to every distance along it: exact in a
+/// homogeneous medium, a step function from one ratio-tracking walk on a grid (unbiased at
+/// every distance).
+#[derive(Clone, Debug)]
+pub enum TransmittanceProfile {
+    Exact(Homogeneous),
+    /// (distance, transmittance from there on), in order.
+    Steps(Vec<(f32, Rgb)>),
+}
+
+impl TransmittanceProfile {
+    pub fn at(&self, t: f32) -> Rgb {
+        match self {
+            TransmittanceProfile::Exact(m) => m.transmittance(t),
+            TransmittanceProfile::Steps(steps) => {
+                let before = steps.partition_point(|s| s.0 <= t);
+                before.checked_sub(1).map_or(Rgb::ONE, |i| steps[i].1)
+            }
+        }
+    }
+}
+
+impl Medium {
+    /// The transmittance along `ray` to every distance up to `t_max` (see
+    /// [`TransmittanceProfile`]).
+    pub fn transmittance_profile(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        sampler: &mut impl Sampler,
+    ) -> TransmittanceProfile {
+        match self {
+            Medium::Homogeneous(m) => TransmittanceProfile::Exact(m.clone()),
+            Medium::Grid(m) => {
+                let mut steps = Vec::new();
+                m.ratio_track(ray, t_max, sampler, |t, tr| steps.push((t, tr)));
+                TransmittanceProfile::Steps(steps)
+            }
+        }
+    }
+}
+
 impl From<Homogeneous> for Medium {
     fn from(m: Homogeneous) -> Self {
         Medium::Homogeneous(m)

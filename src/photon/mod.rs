@@ -6,6 +6,7 @@
 //! Photon power is flux in watts and already includes 1/N of the emitted count, so a radiance
 //! estimate is Σ f · Φ / area with no further division.
 
+pub mod beam;
 pub mod cache;
 pub mod estimate;
 pub mod grid;
@@ -20,6 +21,6 @@ pub use estimate::{GatherParams, Kernel};
 pub use map::{MapKind, PhotonMap};
 pub use record::{Channel, PassPhoton, Photon, VolumePhoton, decode_octahedral, encode_octahedral};
 pub use trace::{
-    MAX_PHOTONS, PassPhotons, PhotonConfig, PhotonMaps, TraceStats, trace_indirect_photons,
-    trace_photons,
+    MAX_PHOTONS, PassPhotons, PhotonConfig, PhotonMaps, SAVED_MAPS_AND_MEDIA, TraceStats,
+    trace_indirect_photons, trace_photons,
 };

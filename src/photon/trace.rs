@@ -99,6 +99,10 @@ pub struct PhotonMaps {
     pub config: PhotonConfig,
     pub caustic: PhotonMap,
     pub global: PhotonMap,
+    /// The photons scattered in media (every scattering, the first from a light included),
+    /// at the global map's power scale. Saved maps hold none: a scene with media renders its
+    /// maps where it traces them.
+    pub volume: Vec<VolumePhoton>,
     pub stats: TraceStats,
 }
 
@@ -168,12 +172,7 @@ pub fn trace_indirect_photons(
                         return;
                     }
                     match v.medium {
-                        Some(medium) => volume.push(VolumePhoton {
-                            position: v.p,
-                            incoming: v.wo,
-                            power: per_sigma_s(v.power, scene.medium(medium).sigma_s_at(v.p)),
-                            medium,
-                        }),
+                        Some(medium) => volume.push(volume_photon(scene, v, medium)),
                         None => surface.push(PassPhoton {
                             position: v.p,
                             normal: v.n,
@@ -216,6 +215,9 @@ fn random_emission(rng: &mut Rng) -> [f32; 6] {
     [u_dir.x, u_dir.y, u_pos.x, u_pos.y, u_light, u_pick]
 }
 
+/// Why saved photon maps and media do not go together.
+pub const SAVED_MAPS_AND_MEDIA: &str = "the scene has participating media, whose photons saved photon maps do not hold: render it with --integrator photon (which traces its own maps), sppm or ppm";
+
 const NO_LIGHT: &str = "the scene emits no light, so there are no photons to trace (light it with a sky: --env R,G,B or --env FILE.exr, or a [[lights]] table)";
 
 /// Photons per parallel work item: small enough to balance, large enough to amortise.
@@ -224,6 +226,7 @@ const CHUNK: u64 = 4096;
 struct ChunkOut {
     caustic: Vec<Photon>,
     global: Vec<Photon>,
+    volume: Vec<VolumePhoton>,
     by_depth: Vec<u64>,
 }
 
@@ -248,11 +251,6 @@ pub fn trace_photons(
     let global_photons = config.global_photons.unwrap_or(config.photons);
     if lights.is_empty() || total_max.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::InvalidScene(NO_LIGHT.into()));
-    }
-    if scene.has_media() {
-        return Err(Error::InvalidScene(
-            "the scene has participating media, which photon maps do not hold: render it with sppm or ppm (or path)".into(),
-        ));
     }
     let chunks_per_channel = config.photons.div_ceil(CHUNK);
     let total_chunks = chunks_per_channel * channels.len() as u64;
@@ -279,16 +277,17 @@ pub fn trace_photons(
                 let mut out = ChunkOut {
                     caustic: Vec::new(),
                     global: Vec::new(),
+                    volume: Vec::new(),
                     by_depth: vec![0; config.max_depth as usize + 1],
                 };
                 for i in start..end {
                     let mut rng = Rng::keyed(config.seed, &[ci as u64, i]);
                     let store_global = i < global_photons;
                     let emission = random_emission(&mut rng);
-                    trace_path(&ctx, emission, &mut rng, &mut |v| {
-                        if v.medium.is_none() {
-                            store(v, channel, store_global, &mut out);
-                        }
+                    trace_path(&ctx, emission, &mut rng, &mut |v| match v.medium {
+                        None => store(v, channel, store_global, &mut out),
+                        Some(m) if store_global => out.volume.push(volume_photon(scene, v, m)),
+                        Some(_) => {}
                     });
                 }
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
@@ -300,10 +299,12 @@ pub fn trace_photons(
     }
     let mut caustic = Vec::new();
     let mut global = Vec::new();
+    let mut volume = Vec::new();
     let mut stored_by_depth = vec![0u64; config.max_depth as usize + 1];
     for o in outs {
         caustic.extend_from_slice(&o.caustic);
         global.extend_from_slice(&o.global);
+        volume.extend_from_slice(&o.volume);
         for (a, b) in stored_by_depth.iter_mut().zip(&o.by_depth) {
             *a += b;
         }
@@ -318,6 +319,7 @@ pub fn trace_photons(
         config: config.clone(),
         caustic,
         global,
+        volume,
         stats: TraceStats {
             emitted: config.photons * channels.len() as u64,
             global_emitted: global_photons * channels.len() as u64,
@@ -369,13 +371,19 @@ struct PathContext<'a> {
 /// centre as Σ p Φ/σs over the ball's volume, which stays right where the density varies
 /// within the ball; dividing the sum by σs at the centre instead weights the photons by the
 /// centre's density (Jensen and Christensen 1998 write it for homogeneous media).
-fn per_sigma_s(power: Rgb, sigma_s: Rgb) -> Rgb {
+fn volume_photon(scene: &Scene, v: &PathVertex, medium: MediumId) -> VolumePhoton {
+    let sigma_s = scene.medium(medium).sigma_s_at(v.p);
     let channel = |p: f32, s: f32| if s > 0.0 { p / s } else { 0.0 };
-    Rgb::new(
-        channel(power.x, sigma_s.x),
-        channel(power.y, sigma_s.y),
-        channel(power.z, sigma_s.z),
-    )
+    VolumePhoton {
+        position: v.p,
+        incoming: v.wo,
+        power: Rgb::new(
+            channel(v.power.x, sigma_s.x),
+            channel(v.power.y, sigma_s.y),
+            channel(v.power.z, sigma_s.z),
+        ),
+        medium,
+    }
 }
 
 /// Follow one photon from its light until it is absorbed, escapes or reaches the maximum depth,

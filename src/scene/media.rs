@@ -15,7 +15,7 @@ use super::Hit;
 
 /// How many invisible boundaries one ray may cross before it is taken as lost: a bound on
 /// the work of a ray that grazes along a boundary's seam.
-const MAX_CROSSINGS: u32 = 64;
+pub const MAX_CROSSINGS: u32 = 64;
 
 /// What a ray meets next.
 #[derive(Clone, Copy, Debug)]

@@ -120,11 +120,6 @@ impl IntegratorKind {
         Self::Ppm,
     ];
 
-    /// Whether it renders scenes with participating media.
-    pub fn renders_media(self) -> bool {
-        matches!(self, Self::Path | Self::Direct | Self::Sppm | Self::Ppm)
-    }
-
     pub fn name(self) -> &'static str {
         Self::CHOICES[self as usize]
     }

@@ -36,7 +36,8 @@ pub fn render(
         "direct" => IntegratorKind::Direct,
         "sppm" => IntegratorKind::Sppm,
         "ppm" => IntegratorKind::Ppm,
-        _ => unreachable!("the photon integrator does not render media"),
+        "photon" => IntegratorKind::Photon,
+        _ => unreachable!("no integrator {integrator}"),
     };
     let options = if kind.is_progressive() {
         photon::settings::RenderOptions {
@@ -53,6 +54,12 @@ pub fn render(
         photon::settings::RenderOptions {
             integrator: Some(kind),
             spp: Some(samples),
+            // Volume photons in spheres of a fixed radius: the media tests' furnaces have the
+            // same light everywhere, where large spheres average noise away without bias.
+            photons: (kind == IntegratorKind::Photon).then_some(400_000),
+            caustic_photons: (kind == IntegratorKind::Photon).then_some(400_000),
+            k: (kind == IntegratorKind::Photon).then_some(0),
+            radius: (kind == IntegratorKind::Photon).then_some(0.3),
             ..Default::default()
         }
     };
