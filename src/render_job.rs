@@ -13,7 +13,7 @@ use crate::film::{Image, PixelFilter};
 use crate::integrator::{DirectConfig, Integrator, PathConfig, PhotonIntegrator, PhotonSettings};
 use crate::io::checkpoint::RunInfo;
 use crate::io::sample_part::PartOrigin;
-use crate::photon::{Kernel, PhotonConfig, PhotonMaps, trace_photons};
+use crate::photon::{Kernel, PhotonConfig, PhotonMaps, SAVED_MAPS_AND_MEDIA, trace_photons};
 use crate::progressive::{Method, ProgressiveConfig, ProgressiveState};
 use crate::render::{RenderOutput, RenderSettings, render_samples_cancellable};
 use crate::scene::Scene;
@@ -300,6 +300,11 @@ impl<'s> RenderJob<'s> {
             IntegratorKind::Photon => {
                 let start = Instant::now();
                 let (maps, photons) = match &self.maps {
+                    // Saved maps hold no volume photons (`--force` may pair any map with any
+                    // scene).
+                    Some(m) if self.scene.has_media() && m.volume.is_empty() => {
+                        return Err(Error::InvalidScene(SAVED_MAPS_AND_MEDIA.into()));
+                    }
                     Some(m) => (m.clone(), 0),
                     None => {
                         let global = o.photons.unwrap_or(defaults::PHOTONS);

@@ -385,6 +385,17 @@ fn an_active_root_tile_hits_the_voxel_limit() {
         err.contains("root entry origin 5 is not a multiple of 4096"),
         "{err}"
     );
+    // The root is a map: an origin given twice would refill the box once per copy (a small
+    // file asking for unbounded work).
+    let twice = build(
+        ("ScaleMap", &[1.0; 15]),
+        false,
+        &[([4096, 0, 0], 1.0, false), ([4096, 0, 0], 2.0, false)],
+    );
+    let err = read_float_grid(&twice, "density", 1 << 24)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("[4096, 0, 0] appears twice"), "{err}");
 }
 
 #[test]

@@ -18,19 +18,21 @@
 //!   meets a light adds nothing (that light is direct or caustic). With `gather_rays = 0` the
 //!   global map is read at x instead, leaving out its direct photons.
 
+mod media;
+
 use super::delta::{smooth_branches, stop_probability};
 use super::lighting::{direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::{Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
-use crate::medium::{MediumId, TransmittanceProfile};
+use crate::medium::MediumId;
 use crate::photon::IrradianceCache;
 use crate::photon::beam::VolumePhotonMap;
 use crate::photon::cache::estimate_apart_from_sites;
 use crate::photon::estimate::{self, GatherParams, Kernel, Selection};
 use crate::photon::{MapKind, PhotonMap, PhotonMaps};
 use crate::sampling::Rng;
-use crate::scene::{MAX_CROSSINGS, Scene};
+use crate::scene::Scene;
 use std::f32::consts::FRAC_1_PI;
 use std::sync::Arc;
 
@@ -480,56 +482,6 @@ impl PhotonIntegrator {
             + passage.in_scattered
     }
 
-    /// Follow `ray`, which starts in `medium`, to the first surface that is there, crossing
-    /// invisible boundaries: the transmittance to it and the light the media along the way
-    /// scatter toward the ray's origin, by the beam radiance estimate over each segment in a
-    /// medium. Without media: the closest hit, transmittance one, nothing drawn.
-    fn through_media(
-        &self,
-        scene: &Scene,
-        ray: &Ray,
-        mut medium: Option<MediumId>,
-        rng: &mut Rng,
-        stats: &mut RayStats,
-    ) -> Passage {
-        let mut passage = Passage {
-            hit: scene.intersect(ray, f32::INFINITY),
-            medium,
-            transmittance: Rgb::ONE,
-            in_scattered: Rgb::ZERO,
-        };
-        if !scene.has_media() {
-            return passage;
-        }
-        let mut ray = *ray;
-        for _ in 0..=MAX_CROSSINGS {
-            let t_max = passage.hit.map_or(f32::INFINITY, |h| h.t);
-            if let Some(id) = medium {
-                let m = scene.medium(id);
-                let profile = m.transmittance_profile(&ray, t_max, rng);
-                if let Some(map) = self.volume.as_deref().filter(|_| m.scatters()) {
-                    let kernel = self.settings.global.kernel;
-                    passage.in_scattered += passage.transmittance
-                        * beam_estimate(scene, map, &ray, (t_max, id), &profile, kernel);
-                }
-                passage.transmittance *= profile.at(t_max);
-            }
-            match passage.hit {
-                Some(h) if scene.is_invisible(&h) => {
-                    medium = scene.medium_after(&h, medium, ray.dir);
-                    ray = Ray::new(offset_origin(h.p, h.ng, ray.dir), ray.dir);
-                    stats.bounce += 1;
-                    passage.hit = scene.intersect(&ray, f32::INFINITY);
-                    passage.medium = medium;
-                }
-                _ => return passage,
-            }
-        }
-        passage.hit = None;
-        passage.transmittance = Rgb::ZERO;
-        passage
-    }
-
     /// Radiance reflected by the rough part at a gather ray's hit, from every photon: the
     /// precomputed irradiance times ρ(wo)/π where the rough part is diffuse or broadly glossy
     /// (GGX α ≥ `GATHER_AS_DIFFUSE_ALPHA`), a radiance estimate over both maps (the BSDF
@@ -596,44 +548,4 @@ impl PhotonIntegrator {
             )),
         }
     }
-}
-
-/// Where a ray through media arrives (see [`PhotonIntegrator::through_media`]).
-struct Passage {
-    hit: Option<crate::scene::Hit>,
-    /// The medium the hit was reached through.
-    medium: Option<MediumId>,
-    transmittance: Rgb,
-    in_scattered: Rgb,
-}
-
-/// The beam radiance estimate over the segment of `ray` up to `t_max` in medium `id`
-/// (Jarosz et al. 2008): Σ K(d) σs(x) p(wo, wi) Φ/σs Tr(t) over the photons of that medium
-/// whose spheres the segment passes, x the point of the ray nearest the photon, at distance
-/// t and d from it, with the 2D kernel K normalised on the disc of each photon's radius (the
-/// global map's kernel). Photon powers are stored over σs where they scattered (see
-/// `photon::trace`).
-fn beam_estimate(
-    scene: &Scene,
-    map: &VolumePhotonMap,
-    ray: &Ray,
-    (t_max, id): (f32, MediumId),
-    profile: &TransmittanceProfile,
-    kernel: Kernel,
-) -> Rgb {
-    let medium = scene.medium(id);
-    let wo = -ray.dir;
-    let mut sum = Rgb::ZERO;
-    map.for_each_along(ray, 0.0, t_max, &mut |p, t, d2| {
-        if p.medium != id {
-            return;
-        }
-        let x = ray.at(t);
-        let weight = kernel.weight(d2, p.radius * p.radius);
-        sum += p.power
-            * medium.sigma_s_at(x)
-            * profile.at(t)
-            * (weight * medium.phase().eval(wo, p.incoming));
-    });
-    sum * map.power_scale
 }

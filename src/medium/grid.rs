@@ -38,12 +38,16 @@ const ROULETTE_SURVIVAL: f32 = 0.25;
 pub struct DensityGrid {
     resolution: [usize; 3],
     values: Vec<f32>,
+    /// FNV-1a of the values' bits: what the scene's content hash sees of them.
+    content: u64,
 }
 
+/// The resolution and a hash of the values: a scene's content hash (for resuming and merging
+/// renders) is taken from its `Debug` text, and must change with any voxel.
 impl fmt::Debug for DensityGrid {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let [x, y, z] = self.resolution;
-        write!(f, "DensityGrid({x}×{y}×{z})")
+        write!(f, "DensityGrid({x}×{y}×{z}, {:016x})", self.content)
     }
 }
 
@@ -72,7 +76,12 @@ impl DensityGrid {
                 *v = 0.0;
             }
         }
-        Ok(Self { resolution, values })
+        let content = crate::hash::fnv1a(bytemuck::cast_slice(&values));
+        Ok(Self {
+            resolution,
+            values,
+            content,
+        })
     }
 
     pub fn resolution(&self) -> [usize; 3] {
@@ -182,9 +191,15 @@ impl GridMedium {
         grid: DensityGrid,
         unit_to_world: Affine3A,
     ) -> Result<Self, String> {
-        let det = unit_to_world.matrix3.determinant();
-        if !(det.is_finite() && det.abs() > 1e-12) {
-            return Err("the grid's placement is not invertible (a scale of zero?)".into());
+        let world_to_unit = unit_to_world.inverse();
+        let finite = |a: &Affine3A| a.matrix3.is_finite() && a.translation.is_finite();
+        if unit_to_world.matrix3.determinant() == 0.0
+            || !finite(&unit_to_world)
+            || !finite(&world_to_unit)
+        {
+            return Err(
+                "the grid's placement is not invertible (a scale of zero?) or not finite".into(),
+            );
         }
         let majorants = Majorants::new(&grid);
         Ok(Self {
@@ -193,7 +208,7 @@ impl GridMedium {
             phase,
             grid,
             majorants,
-            world_to_unit: unit_to_world.inverse(),
+            world_to_unit,
             sigma_t_max: (sigma_a + sigma_s).max_element(),
         })
     }
@@ -228,11 +243,14 @@ impl GridMedium {
         let (o, d) = self.to_unit(ray);
         self.for_each_cell(o, d, t_max, |t_enter, t_exit, max_density| {
             let mu = max_density * self.sigma_t_max;
+            if !(mu > 0.0 && mu.is_finite()) {
+                return true;
+            }
             let mut t = t_enter;
             loop {
-                t += exponential(sampler.next_f32()) / mu;
-                if t >= t_exit {
-                    return true;
+                match advance(t, mu, sampler.next_f32()) {
+                    Some(next) if next < t_exit => t = next,
+                    _ => return true,
                 }
                 let density = self.grid.at(o + d * t);
                 let st = sigma_t * density;
@@ -260,7 +278,7 @@ impl GridMedium {
     /// tracking.
     pub fn transmittance(&self, ray: &Ray, t_max: f32, sampler: &mut impl Sampler) -> Rgb {
         let mut tr = Rgb::ONE;
-        self.ratio_track(ray, t_max, sampler, |_, t| tr = t);
+        self.ratio_track(ray, t_max, sampler, |_, estimate| tr = estimate);
         tr
     }
 
@@ -280,11 +298,14 @@ impl GridMedium {
         let (o, d) = self.to_unit(ray);
         self.for_each_cell(o, d, t_max, |t_enter, t_exit, max_density| {
             let mu = max_density * self.sigma_t_max;
+            if !(mu > 0.0 && mu.is_finite()) {
+                return true;
+            }
             let mut t = t_enter;
             loop {
-                t += exponential(sampler.next_f32()) / mu;
-                if t >= t_exit {
-                    return true;
+                match advance(t, mu, sampler.next_f32()) {
+                    Some(next) if next < t_exit => t = next,
+                    _ => return true,
                 }
                 tr *= Rgb::ONE - sigma_t * (self.grid.at(o + d * t) / mu);
                 if tr.max_element() < ROULETTE_BELOW {
@@ -370,6 +391,9 @@ impl GridMedium {
 
 /// The part [t0, t1] of [0, t_max] in which `o + t d` is inside the unit cube.
 fn clip_to_unit_cube(o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
+    if !(o.is_finite() && d.is_finite()) || t_max.is_nan() {
+        return None;
+    }
     let mut t0 = 0.0f32;
     let mut t1 = t_max;
     for a in 0..3 {
@@ -390,10 +414,14 @@ fn clip_to_unit_cube(o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
     (t0 < t1).then_some((t0, t1))
 }
 
-/// A distance in units of mean free paths, from a uniform number.
+/// The next tentative collision after `t` at majorant `mu`, from a uniform number; `None`
+/// where the step is lost to rounding (t too large for it), which ends the cell: the walk
+/// stops rather than stall.
 #[inline]
-fn exponential(u: f32) -> f32 {
-    -(1.0 - u).ln()
+fn advance(t: f32, mu: f32, u: f32) -> Option<f32> {
+    let step = -(1.0 - u).ln() / mu;
+    let next = t + step;
+    (next > t || step == 0.0).then_some(next)
 }
 
 #[cfg(test)]
@@ -468,6 +496,61 @@ mod tests {
             (scattered - expected).abs().max_element() < 0.01,
             "{scattered} vs {expected}"
         );
+    }
+
+    /// The DDA visits, in order and without gaps, cells whose majorant bounds the density
+    /// everywhere in them, for rays from inside and outside, along axes and backwards.
+    #[test]
+    fn the_majorant_walk_tiles_the_ray_and_bounds_the_density() {
+        let mut rng = Rng::keyed(3, &[1]);
+        let (n, m) = ([7usize, 5, 9], 7 * 5 * 9);
+        let values = (0..m).map(|_| 0.05 + rng.next_f32()).collect();
+        let medium = GridMedium::new(
+            Rgb::ONE,
+            Rgb::ONE,
+            HenyeyGreenstein::new(0.0),
+            DensityGrid::new(n, values).unwrap(),
+            Affine3A::IDENTITY,
+        )
+        .unwrap();
+        let axes = [Vec3::X, -Vec3::Y, Vec3::Z, -Vec3::X];
+        for i in 0..400 {
+            let o = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 3.0 - 1.0;
+            let d = if i % 5 == 0 {
+                axes[(i / 5) % 4]
+            } else {
+                (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5).normalize()
+            };
+            let t_max = if i % 3 == 0 {
+                f32::INFINITY
+            } else {
+                4.0 * rng.next_f32()
+            };
+            let mut cells = Vec::new();
+            medium.for_each_cell(o, d, t_max, |a, b, max| {
+                cells.push((a, b, max));
+                true
+            });
+            let Some((t0, t1)) = clip_to_unit_cube(o, d, t_max) else {
+                assert!(cells.is_empty());
+                continue;
+            };
+            assert!(!cells.is_empty(), "ray {o} {d} {t_max}");
+            // The walk's last boundary may round a few ulps short of the cube's face.
+            let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * b.abs().max(1.0);
+            assert_eq!(cells[0].0, t0);
+            assert!(close(cells[cells.len() - 1].1, t1), "{cells:?} to {t1}");
+            for w in cells.windows(2) {
+                assert_eq!(w[0].1, w[1].0, "a gap between cells");
+            }
+            for &(a, b, max) in &cells {
+                for k in 0..8 {
+                    let t = a + (b - a) * (k as f32 + 0.5) / 8.0;
+                    let density = medium.grid.at(o + d * t);
+                    assert!(density <= max * (1.0 + 1e-5), "{density} above {max}");
+                }
+            }
+        }
     }
 
     #[test]
