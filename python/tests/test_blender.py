@@ -10,11 +10,13 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
+import mathutils  # noqa: E402
 
-from test_photon import photon_cli  # noqa: E402
+from test_photon import photon_cli, read_pfm  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python" / "blender"))
@@ -362,3 +364,86 @@ def test_fog_and_smoke_map_to_cycles_coefficients_and_render_by_f12_as_by_the_cl
     table, rel_mse, mean_ratio = compare(engine_out, cli_out)
     print(table)
     assert abs(mean_ratio - 1.0) < 0.03, table
+
+
+def smoke_volume_stage():
+    """A Volume object reading a Blender-written OpenVDB smoke cache (the test fixture),
+    moved, turned and scaled, with a Principled Volume of density 20, on a floor under a spot
+    light."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x = SIZE
+    scene.render.resolution_y = SIZE
+    scene.render.resolution_percentage = 100
+    plane("floor", (0, 0, 0), (0, 0, 0), 6, principled("floor", (0.6, 0.6, 0.6), roughness=1.0))
+    volume = bpy.data.volumes.new("plume")
+    volume.filepath = str(ROOT / "tests" / "fixtures" / "vdb" / "smoke_blosc_half_f24.vdb")
+    obj = bpy.data.objects.new("plume", volume)
+    scene.collection.objects.link(obj)
+    obj.location = (-0.4, 0.3, 0.0)
+    obj.rotation_euler = (0.0, 0.0, math.radians(30))
+    obj.scale = (0.8, 0.8, 0.8)
+    smoke = bpy.data.materials.new("smoke")
+    smoke.use_nodes = True
+    nodes = smoke.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    principled_volume = nodes.new("ShaderNodeVolumePrincipled")
+    principled_volume.inputs["Color"].default_value = (0.9, 0.85, 0.8, 1.0)
+    principled_volume.inputs["Density"].default_value = 20.0
+    principled_volume.inputs["Absorption Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    smoke.node_tree.links.new(principled_volume.outputs["Volume"],
+                              nodes["Material Output"].inputs["Volume"])
+    volume.materials.append(smoke)
+    bpy.ops.object.light_add(type="SPOT", location=(0, 0, 3.5), rotation=(0, 0, 0))
+    spot = bpy.context.active_object.data
+    spot.energy, spot.spot_size, spot.spot_blend = 400.0, math.radians(60), 0.0
+    bpy.ops.object.camera_add(location=(0, -4.5, 1.0), rotation=(math.radians(85), 0, 0))
+    scene.camera = bpy.context.active_object
+    scene.camera.data.angle = math.radians(45)
+    return scene, obj
+
+
+def test_a_volume_object_maps_to_a_grid_medium_in_its_place(tmp_path):
+    import tomllib
+
+    scene, obj = smoke_volume_stage()
+    reports = []
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    path, _ = photon_blender.export_scene(depsgraph, str(tmp_path), reports.append)
+    with open(path, "rb") as f:
+        toml = tomllib.load(f)
+    assert reports == [], reports
+    medium = toml["media"]["plume grid"]
+    assert medium["grid"] == "volume0.vdb" and medium["grid_name"] == "density"
+    source = Path(bpy.path.abspath(obj.data.filepath))
+    assert (tmp_path / "volume0.vdb").read_bytes() == source.read_bytes()
+    # Cycles' Principled Volume per unit of the grid: σs = colour · density.
+    assert medium["sigma_s"] == pytest.approx([18.0, 17.0, 16.0])
+    box = next(s for s in toml["shapes"] if s.get("interior") == "plume grid")
+    assert box["type"] == "box" and "material" not in box
+    # Where the smoke is (the grid in the object's space, Blender's z-up world turned y-up): a
+    # path render of the export differs from the stage without it mostly inside the image of
+    # the object's bounds, as Blender's own camera projects them.
+    from bpy_extras.object_utils import world_to_camera_view
+
+    def render(scene_file, out):
+        subprocess.run([photon_cli(), "render", scene_file, "--integrator", "path", "--spp", "16",
+                        "--width", "32", "--height", "32", "-q", "-o", str(out)], check=True)
+
+    render(path, tmp_path / "with.pfm")
+    empty = tmp_path / "empty.toml"
+    text = Path(path).read_text().replace('interior = "plume grid"', 'interior = "none"')
+    empty.write_text(text + '\n[media.none]\nsigma_s = 0.0\n')
+    render(str(empty), tmp_path / "without.pfm")
+    with_smoke = read_pfm(tmp_path / "with.pfm").sum(axis=2)
+    without = read_pfm(tmp_path / "without.pfm").sum(axis=2)
+    bounds = obj.evaluated_get(depsgraph).bound_box
+    corners = [world_to_camera_view(scene, scene.camera, obj.matrix_world @ mathutils.Vector(c))
+               for c in bounds]
+    x0, x1 = min(c.x for c in corners) * 32, max(c.x for c in corners) * 32
+    y0, y1 = (1 - max(c.y for c in corners)) * 32, (1 - min(c.y for c in corners)) * 32
+    changed = np.argwhere(np.abs(with_smoke - without) > 0.05 * (without + 0.05))
+    assert len(changed) > 20, "the smoke is not seen"
+    inside = [(y, x) for y, x in changed if x0 - 1 <= x <= x1 + 1 and y0 - 1 <= y <= y1 + 1]
+    # The smoke's shadow on the floor may fall outside its own box.
+    assert len(inside) > 0.5 * len(changed), (len(inside), len(changed), (x0, x1, y0, y1))

@@ -42,6 +42,7 @@ bl_info = {
 
 import math
 import os
+import shutil
 import tempfile
 
 import bpy
@@ -293,12 +294,52 @@ def write_ply(path, obj, depsgraph):
             f.write(f"3 {t[0]} {t[1]} {t[2]}\n")
 
 
+def grid_volumes(depsgraph, directory, report):
+    """Volume objects (OpenVDB grids, such as a baked smoke) with a volume material: each as a
+    grid medium (its .vdb copied beside the scene) inside an invisible box around the object's
+    bounds. As in Cycles, the material's density multiplies the grid named by its Density
+    Attribute, and the grids sit in the object's space."""
+    parts = []
+    objects = {i.object.original for i in depsgraph.object_instances if i.object.type == "VOLUME"}
+    for k, obj in enumerate(sorted(objects, key=lambda o: o.name)):
+        what = f"volume object '{obj.name}'"
+        mat = obj.active_material
+        node = volume_output(mat.node_tree, "OUTPUT_MATERIAL")[0] if mat and mat.use_nodes else None
+        medium = medium_of(node, what, report) if node is not None else None
+        if medium is None:
+            report(f"{what}: no volume material, not mapped")
+            continue
+        volume = obj.data
+        volume.grids.load()
+        source = bpy.path.abspath(volume.grids.frame_filepath or volume.filepath)
+        if not os.path.isfile(source):
+            report(f"{what}: its file '{source}' is not there, not mapped")
+            continue
+        grid_file = f"volume{k}.vdb"
+        shutil.copyfile(source, os.path.join(directory, grid_file))
+        attribute = node.inputs.get("Density Attribute") if node.type == "PRINCIPLED_VOLUME" else None
+        grid_name = (attribute.default_value if attribute is not None else "") or "density"
+        m = obj.matrix_world
+        rows = [[m[r][c] for c in range(4)] for r in (0, 2, 1)]
+        rows[2] = [-x for x in rows[2]]  # y-up: (x, y, z) -> (x, z, -y)
+        matrix = ", ".join(fmt(r) for r in rows + [[0.0, 0.0, 0.0, 1.0]])
+        name = f"{obj.name} grid"
+        parts.append(medium_toml(name, medium)
+                     + f"grid = \"{grid_file}\"\ngrid_name = {toml_string(grid_name)}\n"
+                     + f"transform = {{ matrix = [{matrix}] }}\n")
+        corners = [y_up(m @ mathutils.Vector(c)) for c in obj.evaluated_get(depsgraph).bound_box]
+        low = [min(c[a] for c in corners) for a in range(3)]
+        high = [max(c[a] for c in corners) for a in range(3)]
+        pad = 1e-4 * max(h - l for l, h in zip(low, high))
+        parts.append(f"[[shapes]]\ntype = \"box\"\nmin = {fmt([l - pad for l in low])}\n"
+                     f"max = {fmt([h + pad for h in high])}\ninterior = {toml_string(name)}\n")
+    return parts
+
+
 def volume_objects(depsgraph, report):
     """Mesh objects whose material has a volume and no surface: (object, material name,
     medium)."""
     out = []
-    if any(i.object.type == "VOLUME" for i in depsgraph.object_instances):
-        report("volume objects (OpenVDB grids) are not mapped")
     for obj in {i.object.original for i in depsgraph.object_instances if i.object.type == "MESH"}:
         for slot in obj.material_slots:
             mat = slot.material
@@ -370,6 +411,7 @@ def export_scene(depsgraph, directory, report=lambda m: None):
         parts.append(medium_toml(name, medium))
     if has_meshes:
         parts.append("[[shapes]]\ntype = \"mesh\"\nfile = \"meshes.glb\"\n")
+    parts.extend(grid_volumes(depsgraph, directory, report))
     for k, (obj, name, medium) in enumerate(volumes):
         ply = f"volume{k}.ply"
         write_ply(os.path.join(directory, ply), obj, depsgraph)
