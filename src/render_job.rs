@@ -301,8 +301,11 @@ impl<'s> RenderJob<'s> {
                 let start = Instant::now();
                 let (maps, photons) = match &self.maps {
                     // Saved maps hold no volume photons (`--force` may pair any map with any
-                    // scene).
-                    Some(m) if self.scene.has_media() && m.volume.is_empty() => {
+                    // scene); media that only absorb need none.
+                    Some(m)
+                        if m.volume.is_empty()
+                            && self.scene.media().iter().any(|m| m.scatters()) =>
+                    {
                         return Err(Error::InvalidScene(SAVED_MAPS_AND_MEDIA.into()));
                     }
                     Some(m) => (m.clone(), 0),
