@@ -4,7 +4,9 @@
 
 mod common;
 
-use common::media::{image_mean, render, scene};
+use common::media::{
+    assert_every_integrator_renders_alike_on_one_and_two_threads, image_mean, scene,
+};
 use common::{chi2, chi2_z};
 use photon::math::{Rgb, Vec3};
 use photon::medium::{HenyeyGreenstein, Homogeneous};
@@ -386,17 +388,7 @@ fn media_render_identically_on_one_and_two_threads() {
     let desc = photon::description::toml_read::read_file(std::path::Path::new(path))
         .unwrap_or_else(|e| panic!("{e}"));
     let s = photon::description::build::build(&desc).unwrap_or_else(|e| panic!("{e}"));
-    for integrator in ["path", "direct", "photon", "sppm", "ppm"] {
-        let images = common::on_one_and_two_threads(|| {
-            let image = render(&s, integrator, 2, Some((12, 8)));
-            image
-                .pixels
-                .iter()
-                .map(|p| p.to_array().map(f32::to_bits))
-                .collect::<Vec<_>>()
-        });
-        assert_eq!(images[0], images[1], "{integrator}");
-    }
+    assert_every_integrator_renders_alike_on_one_and_two_threads(&s, Some((12, 8)));
 }
 
 /// Saved photon maps hold no volume photons: tracing maps for a scene with media is refused,

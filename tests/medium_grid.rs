@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::media::{image_mean, render, scene_in};
+use common::media::{
+    assert_every_integrator_renders_alike_on_one_and_two_threads, image_mean, render, scene_in,
+};
 use photon::math::Rgb;
 use photon::medium::grid_file::write_vol;
 use std::path::Path;
@@ -150,17 +152,7 @@ fn a_furnace_holding_a_lumpy_grid_cloud_reads_its_wall_radiance() {
 fn grid_media_render_identically_on_one_and_two_threads() {
     let dir = common::temp_dir("grid-threads");
     let s = lumpy_furnace(&dir, 0.3, 6);
-    for integrator in ["path", "direct", "photon", "sppm", "ppm"] {
-        let images = common::on_one_and_two_threads(|| {
-            let image = render(&s, integrator, 2, None);
-            image
-                .pixels
-                .iter()
-                .map(|p| p.to_array().map(f32::to_bits))
-                .collect::<Vec<_>>()
-        });
-        assert_eq!(images[0], images[1], "{integrator}");
-    }
+    assert_every_integrator_renders_alike_on_one_and_two_threads(&s, None);
 }
 
 /// Grids that cannot be read are errors naming the file and what was expected; mistakes in

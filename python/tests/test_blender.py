@@ -277,26 +277,37 @@ def test_the_scene_name_is_escaped_in_the_toml(tmp_path):
         assert tomllib.load(f)["name"] == scene.name
 
 
-def fog_stage():
-    """A floor in thin fog (a Volume Scatter on the World) under a spot light, with a cube of
-    smoke (a Principled Volume, no surface) on it."""
+def floor_stage():
+    """An empty scene of SIZE² pixels with a grey floor."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     scene.render.resolution_x = SIZE
     scene.render.resolution_y = SIZE
     scene.render.resolution_percentage = 100
     plane("floor", (0, 0, 0), (0, 0, 0), 6, principled("floor", (0.6, 0.6, 0.6), roughness=1.0))
-    smoke = bpy.data.materials.new("smoke")
-    smoke.use_nodes = True
-    nodes = smoke.node_tree.nodes
+    return scene
+
+
+def principled_volume(name, **inputs):
+    """A material with a Principled Volume (these inputs set) on its Volume output and nothing
+    on its Surface."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
     nodes.remove(nodes["Principled BSDF"])
     volume = nodes.new("ShaderNodeVolumePrincipled")
-    volume.inputs["Color"].default_value = (0.8, 0.7, 0.6, 1.0)
-    volume.inputs["Density"].default_value = 2.0
-    volume.inputs["Anisotropy"].default_value = 0.3
-    volume.inputs["Absorption Color"].default_value = (0.25, 0.36, 0.81, 1.0)
-    output = nodes["Material Output"]
-    smoke.node_tree.links.new(volume.outputs["Volume"], output.inputs["Volume"])
+    for socket, value in inputs.items():
+        volume.inputs[socket].default_value = value
+    mat.node_tree.links.new(volume.outputs["Volume"], nodes["Material Output"].inputs["Volume"])
+    return mat
+
+
+def fog_stage():
+    """A floor in thin fog (a Volume Scatter on the World) under a spot light, with a cube of
+    smoke (a Principled Volume, no surface) on it."""
+    scene = floor_stage()
+    smoke = principled_volume("smoke", Color=(0.8, 0.7, 0.6, 1.0), Density=2.0, Anisotropy=0.3,
+                              **{"Absorption Color": (0.25, 0.36, 0.81, 1.0)})
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.4, 0, 0.5))
     bpy.context.active_object.name = "smoke"
     bpy.context.active_object.data.materials.append(smoke)
@@ -370,12 +381,7 @@ def smoke_volume_stage():
     """A Volume object reading a Blender-written OpenVDB smoke cache (the test fixture),
     moved, turned and scaled, with a Principled Volume of density 20, on a floor under a spot
     light."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.resolution_x = SIZE
-    scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
-    plane("floor", (0, 0, 0), (0, 0, 0), 6, principled("floor", (0.6, 0.6, 0.6), roughness=1.0))
+    scene = floor_stage()
     volume = bpy.data.volumes.new("plume")
     volume.filepath = str(ROOT / "tests" / "fixtures" / "vdb" / "smoke_blosc_half_f24.vdb")
     obj = bpy.data.objects.new("plume", volume)
@@ -383,17 +389,9 @@ def smoke_volume_stage():
     obj.location = (-0.4, 0.3, 0.0)
     obj.rotation_euler = (0.0, 0.0, math.radians(30))
     obj.scale = (0.8, 0.8, 0.8)
-    smoke = bpy.data.materials.new("smoke")
-    smoke.use_nodes = True
-    nodes = smoke.node_tree.nodes
-    nodes.remove(nodes["Principled BSDF"])
-    principled_volume = nodes.new("ShaderNodeVolumePrincipled")
-    principled_volume.inputs["Color"].default_value = (0.9, 0.85, 0.8, 1.0)
-    principled_volume.inputs["Density"].default_value = 20.0
-    principled_volume.inputs["Absorption Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    smoke.node_tree.links.new(principled_volume.outputs["Volume"],
-                              nodes["Material Output"].inputs["Volume"])
-    volume.materials.append(smoke)
+    volume.materials.append(principled_volume(
+        "smoke", Color=(0.9, 0.85, 0.8, 1.0), Density=20.0,
+        **{"Absorption Color": (0.0, 0.0, 0.0, 1.0)}))
     bpy.ops.object.light_add(type="SPOT", location=(0, 0, 3.5), rotation=(0, 0, 0))
     spot = bpy.context.active_object.data
     spot.energy, spot.spot_size, spot.spot_blend = 400.0, math.radians(60), 0.0

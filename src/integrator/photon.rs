@@ -167,7 +167,7 @@ impl PhotonIntegrator {
         // Volume photons take the global map's k and largest radius for their spheres.
         let volume = (!maps.volume.is_empty()).then(|| {
             Arc::new(VolumePhotonMap::build(
-                maps.volume.clone(),
+                &maps.volume,
                 settings.global.k,
                 settings.global.max_radius,
                 maps.global.power_scale,

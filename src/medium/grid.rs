@@ -240,31 +240,18 @@ impl GridMedium {
         let mut weight = Rgb::ONE;
         let mut ratio = Rgb::ONE;
         let mut scattered_at = None;
-        let (o, d) = self.to_unit(ray);
-        self.for_each_cell(o, d, t_max, |t_enter, t_exit, max_density| {
-            let mu = max_density * self.sigma_t_max;
-            if !(mu > 0.0 && mu.is_finite()) {
-                return true;
+        self.tentative_collisions(ray, t_max, sampler, |sampler, t, density, mu| {
+            let st = sigma_t * density;
+            if sampler.next_f32() * mu < st[hero] {
+                weight *= self.sigma_s / sigma_t[hero];
+                ratio *= sigma_t / sigma_t[hero];
+                scattered_at = Some(t);
+                return false;
             }
-            let mut t = t_enter;
-            loop {
-                match advance(t, mu, sampler.next_f32()) {
-                    Some(next) if next < t_exit => t = next,
-                    _ => return true,
-                }
-                let density = self.grid.at(o + d * t);
-                let st = sigma_t * density;
-                let st_hero = st[hero];
-                if sampler.next_f32() * mu < st_hero {
-                    weight *= self.sigma_s / sigma_t[hero];
-                    ratio *= sigma_t / sigma_t[hero];
-                    scattered_at = Some(t);
-                    return false;
-                }
-                let null = Rgb::splat(mu) - st;
-                weight *= null / null[hero];
-                ratio *= null / null[hero];
-            }
+            let null = Rgb::splat(mu) - st;
+            weight *= null / null[hero];
+            ratio *= null / null[hero];
+            true
         });
         FreeFlight {
             t: scattered_at.unwrap_or(t_max),
@@ -295,6 +282,31 @@ impl GridMedium {
     ) {
         let sigma_t = self.sigma_a + self.sigma_s;
         let mut tr = Rgb::ONE;
+        self.tentative_collisions(ray, t_max, sampler, |sampler, t, density, mu| {
+            tr *= Rgb::ONE - sigma_t * (density / mu);
+            if tr.max_element() < ROULETTE_BELOW {
+                if sampler.next_f32() >= ROULETTE_SURVIVAL {
+                    step(t, Rgb::ZERO);
+                    return false;
+                }
+                tr /= ROULETTE_SURVIVAL;
+            }
+            step(t, tr);
+            true
+        });
+    }
+
+    /// The tentative collisions along `ray` up to `t_max`, in order: distances drawn from
+    /// each majorant cell's μ (the grey majorant of its largest density), calling
+    /// `visit(sampler, t, density, μ)` at each while it returns true. Cells whose majorant is
+    /// zero or not finite are passed.
+    fn tentative_collisions<S: Sampler>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        sampler: &mut S,
+        mut visit: impl FnMut(&mut S, f32, f32, f32) -> bool,
+    ) {
         let (o, d) = self.to_unit(ray);
         self.for_each_cell(o, d, t_max, |t_enter, t_exit, max_density| {
             let mu = max_density * self.sigma_t_max;
@@ -307,15 +319,9 @@ impl GridMedium {
                     Some(next) if next < t_exit => t = next,
                     _ => return true,
                 }
-                tr *= Rgb::ONE - sigma_t * (self.grid.at(o + d * t) / mu);
-                if tr.max_element() < ROULETTE_BELOW {
-                    if sampler.next_f32() >= ROULETTE_SURVIVAL {
-                        step(t, Rgb::ZERO);
-                        return false;
-                    }
-                    tr /= ROULETTE_SURVIVAL;
+                if !visit(sampler, t, self.grid.at(o + d * t), mu) {
+                    return false;
                 }
-                step(t, tr);
             }
         });
     }

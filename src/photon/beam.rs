@@ -46,9 +46,9 @@ impl VolumePhotonMap {
     /// The map of `photons`, each given the distance to its `k`-th nearest neighbour as its
     /// radius, at most `max_radius` (also the radius of a photon with fewer neighbours within
     /// it, and of every photon when `k` is 0: a fixed radius).
-    pub fn build(photons: Vec<VolumePhoton>, k: usize, max_radius: f32, power_scale: f32) -> Self {
+    pub fn build(photons: &[VolumePhoton], k: usize, max_radius: f32, power_scale: f32) -> Self {
         let mut photons: Vec<BeamPhoton> = photons
-            .into_iter()
+            .iter()
             .map(|p| BeamPhoton {
                 position: p.position,
                 radius: max_radius,
@@ -212,7 +212,7 @@ mod tests {
                 medium: 0,
             })
             .collect();
-        let map = VolumePhotonMap::build(photons, 8, 0.2, 1.0);
+        let map = VolumePhotonMap::build(&photons, 8, 0.2, 1.0);
         for _ in 0..50 {
             let o = Vec3::new(-1.0, rng.next_f32(), rng.next_f32());
             let target = Vec3::new(2.0, rng.next_f32(), rng.next_f32());

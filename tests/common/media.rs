@@ -74,3 +74,22 @@ pub fn render(
         .expect("renders")
         .image
 }
+
+/// Every integrator renders `scene` (at `size`, or its own) to the same bits on one thread
+/// and on two.
+pub fn assert_every_integrator_renders_alike_on_one_and_two_threads(
+    scene: &photon::scene::Scene,
+    size: Option<(u32, u32)>,
+) {
+    for integrator in ["path", "direct", "photon", "sppm", "ppm"] {
+        let images = super::on_one_and_two_threads(|| {
+            let image = render(scene, integrator, 2, size);
+            image
+                .pixels
+                .iter()
+                .map(|p| p.to_array().map(f32::to_bits))
+                .collect::<Vec<_>>()
+        });
+        assert_eq!(images[0], images[1], "{integrator}");
+    }
+}
