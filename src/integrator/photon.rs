@@ -231,7 +231,7 @@ impl PhotonIntegrator {
                     medium: passage.medium,
                     ..at
                 };
-                self.shade(scene, ray, &hit, at, rng, stats)
+                self.shade(scene, ray, hit, at, rng, stats)
             }
         };
         if scene.has_media() {
@@ -248,14 +248,13 @@ impl PhotonIntegrator {
         &self,
         scene: &Scene,
         ray: &Ray,
-        hit: &crate::scene::Hit,
+        hit: crate::scene::Hit,
         at: Vertex,
         rng: &mut Rng,
         stats: &mut RayStats,
     ) -> Sample {
         let mut out = Sample::default();
         let light_samples = self.settings.light_samples;
-        let hit = *hit;
         let wo = -ray.dir;
         out.direct = scene.emitted(&hit, wo);
         if let Some((from, p_bsdf)) = at.arrival
