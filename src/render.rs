@@ -16,6 +16,7 @@ use crate::integrator::{Integrator, RayStats, Sample};
 use crate::math::Rgb;
 use crate::sampling::Rng;
 use crate::scene::Scene;
+use crate::spectrum::Lambda;
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -34,6 +35,9 @@ pub struct RenderSettings {
     pub filter: PixelFilter,
     /// Each sample's radiance is scaled down to at most this in every channel.
     pub max_radiance: Option<f32>,
+    /// Spectral rendering: each sample carries three wavelengths (hero-wavelength sampling)
+    /// instead of the RGB channels.
+    pub spectral: bool,
 }
 
 impl RenderSettings {
@@ -46,6 +50,7 @@ impl RenderSettings {
             seed: 0,
             filter: PixelFilter::Box,
             max_radiance: None,
+            spectral: false,
         }
     }
 }
@@ -253,7 +258,10 @@ fn render_pixel(
         let mut rng = Rng::keyed(s.seed, &[pixel, u64::from(i)]);
         let u = stratified_2d(i, s.spp, rotation, rng.next_2d());
         let ray = camera.ray(s.filter.sample_position(x, y, u));
-        let sample = integrator.sample(scene, &ray, &mut rng, stats);
+        let mut lambda = Lambda::draw(s.spectral, &mut rng);
+        let sample = integrator
+            .sample(scene, &ray, &mut lambda, &mut rng, stats)
+            .to_rgb(&lambda);
         mean.add(&match s.max_radiance {
             Some(max) => sample.clamped(max),
             None => sample,

@@ -135,6 +135,22 @@ impl<'s> RenderJob<'s> {
                 "must be at least 1 (or gather none)",
             );
         }
+        if options.spectral == Some(true) {
+            if !scene.media().is_empty() {
+                return needs(
+                    "spectral",
+                    None,
+                    "spectral rendering does not take participating media yet (render the scene in RGB)",
+                );
+            }
+            if options.per_channel == Some(true) {
+                return needs(
+                    "spectral",
+                    None,
+                    "per_channel photons are an RGB mode; leave one of them out",
+                );
+            }
+        }
         let (w, h) = scene.default_resolution;
         options.width = options.width.or(Some(w));
         options.height = options.height.or(Some(h));
@@ -197,6 +213,7 @@ impl<'s> RenderJob<'s> {
             seed: o.seed.unwrap_or(defaults::SEED),
             filter: self.filter(),
             max_radiance: o.max_radiance,
+            spectral: o.spectral.unwrap_or(false),
         }
     }
 
@@ -220,6 +237,7 @@ impl<'s> RenderJob<'s> {
             light_samples: o
                 .light_samples
                 .unwrap_or(defaults::light_samples(self.integrator)),
+            spectral: s.spectral,
         }
     }
 
@@ -320,6 +338,7 @@ impl<'s> RenderJob<'s> {
                             global_photons: Some(global),
                             absorption: o.absorption,
                             per_channel: o.per_channel.unwrap_or(false),
+                            spectral: self.settings().spectral,
                             seed: self.settings().seed,
                             ..PhotonConfig::default()
                         };

@@ -64,6 +64,8 @@ pub struct Budget {
     /// command line's default (4 or 6 pixel footprints) is made for full-size images: at 32² it is
     /// a fifth of a room, and its bias takes thousands of passes to fade.
     pub radius_fraction: f32,
+    /// Render with spectral transport (against `reference-spectral.exr`).
+    pub spectral: bool,
 }
 
 impl Budget {
@@ -78,6 +80,7 @@ impl Budget {
         passes: 64,
         photons_per_pass: 20_000,
         radius_fraction: 0.005,
+        spectral: false,
     };
 
     /// What `photon validate` runs by default and `validation/REPORT.md` records.
@@ -91,6 +94,7 @@ impl Budget {
         passes: 256,
         photons_per_pass: 50_000,
         radius_fraction: 0.005,
+        spectral: false,
     };
 }
 
@@ -102,8 +106,18 @@ pub struct Case {
     pub reference_file: PathBuf,
 }
 
-/// Every case in `dir`: sub-folders `NAME/` with `NAME.toml` and `reference.exr`, by name.
-pub fn find_cases(dir: &Path) -> Result<Vec<Case>> {
+/// The reference file of a case: Mitsuba's RGB render, or its spectral one.
+pub fn reference_file_name(spectral: bool) -> &'static str {
+    if spectral {
+        "reference-spectral.exr"
+    } else {
+        "reference.exr"
+    }
+}
+
+/// Every case in `dir`: sub-folders `NAME/` with `NAME.toml` and the reference
+/// ([`reference_file_name`]), by name.
+pub fn find_cases(dir: &Path, spectral: bool) -> Result<Vec<Case>> {
     let entries = std::fs::read_dir(dir).map_err(|source| Error::Read {
         path: dir.to_path_buf(),
         source,
@@ -115,7 +129,7 @@ pub fn find_cases(dir: &Path) -> Result<Vec<Case>> {
             continue;
         };
         let scene_file = folder.join(format!("{name}.toml"));
-        let reference_file = folder.join("reference.exr");
+        let reference_file = folder.join(reference_file_name(spectral));
         if scene_file.is_file() && reference_file.is_file() {
             cases.push(Case {
                 name: name.to_string(),
@@ -194,6 +208,7 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
     let settings = |spp| RenderSettings {
         seed: 0,
         filter: PixelFilter::Box,
+        spectral: budget.spectral,
         ..RenderSettings::new(budget.size, budget.size, spp)
     };
     let none = |_, _| {};
@@ -211,6 +226,7 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
             let config = PhotonConfig {
                 photons: budget.caustic_photons.max(budget.global_photons),
                 global_photons: Some(budget.global_photons),
+                spectral: budget.spectral,
                 ..PhotonConfig::default()
             };
             let maps = trace_photons(scene, &config, &none)?;
@@ -233,6 +249,7 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
                 initial_radius: Some(budget.radius_fraction * scene.view_diagonal()),
                 max_depth: 16,
                 light_samples: 1,
+                spectral: budget.spectral,
             };
             let mut state = ProgressiveState::new(scene, config, 0)?;
             for _ in 0..budget.passes {

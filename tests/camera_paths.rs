@@ -57,7 +57,15 @@ fn light_through_glass_is_unbiased_and_nearly_noiseless() {
     let mut stats = RayStats::default();
     for i in 0..n {
         let mut rng = Rng::keyed(1, &[i]);
-        let path = trace_camera_path(&scene, &ray, 16, 1, &mut rng, &mut stats);
+        let path = trace_camera_path(
+            &scene,
+            &ray,
+            photon::spectrum::Lambda::Rgb,
+            16,
+            1,
+            &mut rng,
+            &mut stats,
+        );
         let l = f64::from(path.direct.x);
         assert_eq!(path.direct.x, path.direct.z, "grey");
         sum += l;
@@ -118,9 +126,17 @@ fn a_pixels_passes_stratify_its_light_samples() {
         .map(|i| {
             let mut rng = Rng::keyed(7, &[i]);
             f64::from(
-                trace_camera_path(&scene, &ray, 4, 1, &mut rng, &mut stats)
-                    .direct
-                    .x,
+                trace_camera_path(
+                    &scene,
+                    &ray,
+                    photon::spectrum::Lambda::Rgb,
+                    4,
+                    1,
+                    &mut rng,
+                    &mut stats,
+                )
+                .direct
+                .x,
             )
         })
         .sum::<f64>()
@@ -136,15 +152,31 @@ fn a_pixels_passes_stratify_its_light_samples() {
             let mut rng = Rng::keyed(11, &[pass, pixel]);
             let mut quasi = Prefixed::new(jitter.light(pixel), &mut rng);
             sums[0] += f64::from(
-                trace_camera_path(&scene, &ray, 4, 1, &mut quasi, &mut stats)
-                    .direct
-                    .x,
+                trace_camera_path(
+                    &scene,
+                    &ray,
+                    photon::spectrum::Lambda::Rgb,
+                    4,
+                    1,
+                    &mut quasi,
+                    &mut stats,
+                )
+                .direct
+                .x,
             );
             let mut rng = Rng::keyed(12, &[pass, pixel]);
             sums[1] += f64::from(
-                trace_camera_path(&scene, &ray, 4, 1, &mut rng, &mut stats)
-                    .direct
-                    .x,
+                trace_camera_path(
+                    &scene,
+                    &ray,
+                    photon::spectrum::Lambda::Rgb,
+                    4,
+                    1,
+                    &mut rng,
+                    &mut stats,
+                )
+                .direct
+                .x,
             );
         }
         for (sq, sum) in squared.iter_mut().zip(sums) {

@@ -11,6 +11,7 @@ use photon::math::{Rgb, Vec3};
 use photon::photon::{PhotonConfig, trace_photons};
 use photon::render::{RenderSettings, render};
 use photon::sampling::{Rng, uniform_sphere};
+use photon::spectrum::Lambda;
 use std::f32::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
@@ -57,7 +58,7 @@ fn power_is_the_disc_times_the_integral_of_radiance() {
     let n = 1_000_000;
     let mut sum = [0f64; 3];
     for _ in 0..n {
-        let l = sky.radiance(uniform_sphere(rng.next_2d()));
+        let l = sky.radiance(uniform_sphere(rng.next_2d()), &Lambda::Rgb);
         for (c, s) in sum.iter_mut().enumerate() {
             *s += f64::from(l[c]);
         }
@@ -81,9 +82,12 @@ fn photons_carry_the_power_with_and_without_aiming() {
         let n = 1_000_000;
         let mut sum = [0f64; 3];
         for _ in 0..n {
-            let Some(e) =
-                Light::Environment(sky.clone()).emit(rng.next_f32(), rng.next_2d(), rng.next_2d())
-            else {
+            let Some(e) = Light::Environment(sky.clone()).emit(
+                rng.next_f32(),
+                rng.next_2d(),
+                rng.next_2d(),
+                &Lambda::Rgb,
+            ) else {
                 continue;
             };
             for (c, s) in sum.iter_mut().enumerate() {
@@ -111,7 +115,12 @@ fn sky_sampling_matches_its_density_chi2() {
         400_000,
         3,
         |rng| {
-            let ls = Light::Environment(sky.clone()).sample_li(Vec3::ZERO, 0.0, rng.next_2d())?;
+            let ls = Light::Environment(sky.clone()).sample_li(
+                Vec3::ZERO,
+                0.0,
+                rng.next_2d(),
+                &Lambda::Rgb,
+            )?;
             assert!(
                 (ls.pdf - sky.pdf(ls.wi)).abs() <= 1e-3 * ls.pdf,
                 "sample pdf {} vs pdf() {}",
@@ -148,7 +157,8 @@ fn sky_texels_are_drawn_by_luminance_times_sin_theta() {
     let mut rng = Rng::keyed(4, &[]);
     for _ in 0..n {
         // A draw whose direction, recomputed, falls into the black row at its edge fails.
-        let Some(ls) = Light::Environment(sky.clone()).sample_li(Vec3::ZERO, 0.0, rng.next_2d())
+        let Some(ls) =
+            Light::Environment(sky.clone()).sample_li(Vec3::ZERO, 0.0, rng.next_2d(), &Lambda::Rgb)
         else {
             continue;
         };

@@ -80,7 +80,7 @@ fn blender_materials_arrive_as_metal_glass_and_pbr() {
     );
     assert!(matches!(scene.lights(), [Light::Environment(_)]));
     assert_eq!(
-        scene.escaped(Vec3::Y),
+        scene.escaped(Vec3::Y, &photon::spectrum::Lambda::Rgb),
         photon::math::Rgb::splat(DEFAULT_SKY_RADIANCE)
     );
 }
@@ -97,7 +97,11 @@ fn blender_sun_and_emissive_quad_are_the_lights() {
     let Light::Directional(d) = &sun.lights()[0] else {
         unreachable!()
     };
-    assert!((d.irradiance.x - 3.0).abs() < 1e-3, "{}", d.irradiance);
+    assert!(
+        (d.irradiance.rgb().x - 3.0).abs() < 1e-3,
+        "{}",
+        d.irradiance.rgb()
+    );
     let (area, _) = load_scene(&fixture("metal-glass-area.glb")).expect("loads");
     let quad = area
         .lights()
@@ -132,7 +136,7 @@ fn blender_textures_and_normal_map_are_applied() {
                 && hit.ng.z.abs() > 0.99
                 && let Material::Pbr(p) = scene.material_at(&hit)
             {
-                let (_, frame) = scene.surface(&hit, Vec3::Z);
+                let (_, frame) = scene.surface(&hit, Vec3::Z, &mut photon::spectrum::Lambda::Rgb);
                 hits.push((hit.p, p, frame.n));
             }
         }
@@ -273,8 +277,12 @@ fn blender_tangents_agree_with_tangents_from_the_uvs() {
             };
             // Horizontal rays above the ground meet only the textured sphere and quad.
             let (na, nb) = (
-                own.surface(&a, -ray.dir).1.n,
-                file.surface(&b, -ray.dir).1.n,
+                own.surface(&a, -ray.dir, &mut photon::spectrum::Lambda::Rgb)
+                    .1
+                    .n,
+                file.surface(&b, -ray.dir, &mut photon::spectrum::Lambda::Rgb)
+                    .1
+                    .n,
             );
             worst = worst.max(1.0 - na.dot(nb));
             compared += 1;
@@ -310,7 +318,7 @@ fn blender_volume_absorption_attenuates_paths_inside_the_glass() {
         .intersect(&Ray::new(Vec3::new(0.05, 10.0, 0.03), down), f32::INFINITY)
         .expect("hits the sphere");
     assert!((top.p.y - 2.0).abs() < 0.02, "the sphere's top: {}", top.p);
-    let (outside, _) = scene.surface(&top, -down);
+    let (outside, _) = scene.surface(&top, -down, &mut photon::spectrum::Lambda::Rgb);
     let Material::Dielectric(entering) = outside else {
         panic!("smooth glass: {outside:?}");
     };
@@ -321,7 +329,7 @@ fn blender_volume_absorption_attenuates_paths_inside_the_glass() {
         .intersect(&inside, f32::INFINITY)
         .expect("hits the far side");
     assert!((bottom.t - 2.0).abs() < 0.02, "a diameter: {}", bottom.t);
-    let (met, _) = scene.surface(&bottom, -down);
+    let (met, _) = scene.surface(&bottom, -down, &mut photon::spectrum::Lambda::Rgb);
     let Material::Dielectric(leaving) = met else {
         panic!("smooth glass: {met:?}");
     };

@@ -73,7 +73,7 @@ fn test_gltf() -> Vec<u8> {
     let h = std::f32::consts::FRAC_1_SQRT_2;
     let doc = json!({
         "asset": {"version": "2.0", "generator": "photon tests"},
-        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength", "KHR_texture_transform", "KHR_materials_specular"],
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength", "KHR_texture_transform", "KHR_materials_specular", "KHR_materials_dispersion"],
         "extensions": {"KHR_lights_punctual": {"lights": [
             {"type": "point", "color": [1.0, 0.5, 0.25], "intensity": 683.0},
             {"type": "spot", "intensity": 1366.0, "spot": {"innerConeAngle": 0.3, "outerConeAngle": 0.5}}
@@ -95,7 +95,7 @@ fn test_gltf() -> Vec<u8> {
         "textures": [{"source": 0}],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 2.0, "znear": 0.1}}],
         "materials": [
-            {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0}, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.45}}},
+            {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.0}, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.45}, "KHR_materials_dispersion": {"dispersion": 0.5}}},
             {"name": "mirror", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1.0], "metallicFactor": 1.0, "roughnessFactor": 0.0}},
             {"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0], "emissiveTexture": {"index": 0}, "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0}, "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}},
             {"name": "blue", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0], "metallicFactor": 0.0}, "alphaMode": "BLEND", "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}},
@@ -127,6 +127,7 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
         LightSpec::Point {
             position,
             intensity: Intensity::Intensity(i),
+            ..
         } => {
             assert_eq!(*position, Vec3::new(0.0, 3.0, 0.0));
             assert!(
@@ -145,6 +146,7 @@ fn gltf_scene_imports_geometry_camera_lights_and_materials() {
             intensity: Intensity::Intensity(i),
             angle_deg,
             falloff_deg,
+            ..
         } => {
             assert_eq!(*position, Vec3::new(0.0, 2.0, 1.0));
             assert!(

@@ -115,6 +115,7 @@ fn progressive(
         initial_radius: radius,
         max_depth: 16,
         light_samples: 16,
+        spectral: false,
     };
     let mut state = ProgressiveState::new(scene, c, 0).expect("valid");
     for _ in 0..passes {

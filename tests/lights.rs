@@ -8,6 +8,7 @@ use photon::geometry::{Disk, Shape, Triangle};
 use photon::light::{AreaLight, Light, PointLight, SpotLight};
 use photon::math::{Rgb, Vec2, Vec3};
 use photon::sampling::{Rng, uniform_sphere};
+use photon::spectrum::{Lambda, Spectrum};
 use std::f32::consts::PI;
 
 const N: usize = 1_000_000;
@@ -32,7 +33,7 @@ fn area_power_mc(l: &AreaLight, seed: u64) -> Rgb {
         }
         let s = l.shapes[k].sample_area(rng.next_2d());
         let w = uniform_sphere(rng.next_2d());
-        let e = l.emitted(s.n, w) * s.n.dot(w).abs() * total * 4.0 * PI;
+        let e = l.emitted(s.n, w, &Lambda::Rgb) * s.n.dot(w).abs() * total * 4.0 * PI;
         for c in 0..3 {
             sum[c] += f64::from(e[c]);
         }
@@ -52,7 +53,12 @@ fn area_light_power_matches_monte_carlo() {
         radius: 0.7,
     })];
     for (shapes, two_sided) in [(quad.clone(), false), (quad, true), (disk, false)] {
-        let l = AreaLight::new(shapes, Rgb::new(17.0, 12.0, 4.0), two_sided).expect("has area");
+        let l = AreaLight::new(
+            shapes,
+            Spectrum::illuminant(Rgb::new(17.0, 12.0, 4.0)),
+            two_sided,
+        )
+        .expect("has area");
         let mc = area_power_mc(&l, 9);
         assert!(
             close(mc, l.power(), 0.01),
@@ -67,12 +73,12 @@ fn point_and_spot_power_match_monte_carlo() {
     let mut rng = Rng::keyed(11, &[]);
     let point = PointLight {
         position: Vec3::ZERO,
-        intensity: Rgb::new(1.0, 2.0, 3.0),
+        intensity: Spectrum::illuminant(Rgb::new(1.0, 2.0, 3.0)),
     };
     let spot = SpotLight::new(
         Vec3::ZERO,
         Vec3::new(0.3, -1.0, 0.2),
-        Rgb::new(5.0, 5.0, 1.0),
+        Spectrum::illuminant(Rgb::new(5.0, 5.0, 1.0)),
         40.0,
         15.0,
     );
@@ -81,7 +87,7 @@ fn point_and_spot_power_match_monte_carlo() {
     let intensity = |light: &Light, w: Vec3| {
         let d = 2.5f32;
         light
-            .sample_li(w * d, 0.5, Vec2::splat(0.5))
+            .sample_li(w * d, 0.5, Vec2::splat(0.5), &Lambda::Rgb)
             .map_or(Rgb::ZERO, |s| s.radiance * s.pdf.recip() * d * d)
     };
     let (point_light, spot_light) = (Light::Point(point), Light::Spot(spot));
@@ -115,7 +121,7 @@ fn disk_light_sampling_gives_the_closed_form_irradiance() {
             normal: -Vec3::Z,
             radius: r,
         })],
-        Rgb::splat(radiance),
+        Spectrum::illuminant(Rgb::splat(radiance)),
         false,
     )
     .expect("has area");
@@ -123,7 +129,7 @@ fn disk_light_sampling_gives_the_closed_form_irradiance() {
     let mut e = 0.0f64;
     for _ in 0..N {
         let u = rng.next_f32();
-        if let Some(s) = l.sample_li(Vec3::ZERO, u, rng.next_2d()) {
+        if let Some(s) = l.sample_li(Vec3::ZERO, u, rng.next_2d(), &Lambda::Rgb) {
             e += f64::from(s.radiance.x * s.wi.z / s.pdf);
         }
     }
@@ -132,8 +138,13 @@ fn disk_light_sampling_gives_the_closed_form_irradiance() {
     assert!((e - want).abs() / want < 0.005, "irradiance {e} vs {want}");
     // Seen from behind, a one-sided light gives nothing.
     assert!(
-        l.sample_li(Vec3::new(0.0, 0.0, 3.0), 0.5, glam::Vec2::splat(0.5))
-            .is_none()
+        l.sample_li(
+            Vec3::new(0.0, 0.0, 3.0),
+            0.5,
+            glam::Vec2::splat(0.5),
+            &Lambda::Rgb
+        )
+        .is_none()
     );
 }
 
@@ -285,7 +296,9 @@ texture = "half.png"
     let mut flux = 0.0f64;
     let n = 400_000;
     for _ in 0..n {
-        if let Some(e) = down.lights()[0].emit(rng.next_f32(), rng.next_2d(), rng.next_2d()) {
+        if let Some(e) =
+            down.lights()[0].emit(rng.next_f32(), rng.next_2d(), rng.next_2d(), &Lambda::Rgb)
+        {
             flux += f64::from(e.flux.x);
         }
     }

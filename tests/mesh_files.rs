@@ -69,6 +69,7 @@ fn obj_with_mtl_maps_colours_lights_glass_mirrors_and_textures() {
             radiance: Rgb::new(3.0, 2.0, 1.0),
             two_sided: false,
             texture: None,
+            spectrum: None,
         })
     );
     assert!(matches!(spec(2).spec, MaterialSpec::Glass { ior, .. } if (ior - 1.7).abs() < 1e-6));

@@ -10,6 +10,7 @@ use photon::light::{AreaLight, Light, PointLight, SpotLight};
 use photon::math::{Frame, Rgb, Vec3};
 use photon::photon::{Channel, MapKind, PhotonConfig, PhotonMaps, kdtree, trace_photons};
 use photon::sampling::Rng;
+use photon::spectrum::{Lambda, Spectrum};
 use std::f64::consts::PI;
 
 fn trace(scene: &str, config: &PhotonConfig) -> PhotonMaps {
@@ -26,12 +27,12 @@ fn emitted_photon_powers_sum_to_each_lights_power() {
     let lights = [
         Light::Point(PointLight {
             position: Vec3::ONE,
-            intensity: Rgb::new(1.0, 2.0, 0.5),
+            intensity: Spectrum::illuminant(Rgb::new(1.0, 2.0, 0.5)),
         }),
         Light::Spot(SpotLight::new(
             Vec3::ZERO,
             Vec3::new(0.2, -1.0, 0.1),
-            Rgb::new(3.0, 3.0, 1.0),
+            Spectrum::illuminant(Rgb::new(3.0, 3.0, 1.0)),
             30.0,
             10.0,
         )),
@@ -42,7 +43,7 @@ fn emitted_photon_powers_sum_to_each_lights_power() {
                     normal: -Vec3::Y,
                     radius: 0.5,
                 })],
-                Rgb::new(17.0, 12.0, 4.0),
+                Spectrum::illuminant(Rgb::new(17.0, 12.0, 4.0)),
                 false,
             )
             .expect("area"),
@@ -53,7 +54,8 @@ fn emitted_photon_powers_sum_to_each_lights_power() {
         let mut rng = Rng::keyed(1, &[k as u64]);
         let mut sum = glam::DVec3::ZERO;
         for _ in 0..n {
-            if let Some(e) = light.emit(rng.next_f32(), rng.next_2d(), rng.next_2d()) {
+            if let Some(e) = light.emit(rng.next_f32(), rng.next_2d(), rng.next_2d(), &Lambda::Rgb)
+            {
                 sum += e.flux.as_dvec3();
                 assert!((e.dir.length() - 1.0).abs() < 1e-4);
                 if let Light::Spot(s) = light {
@@ -82,7 +84,7 @@ fn area_light_photon_directions_are_cosine_distributed() {
             normal,
             radius: 1.0,
         })],
-        Rgb::ONE,
+        Spectrum::illuminant(Rgb::ONE),
         false,
     )
     .expect("area");
@@ -92,7 +94,7 @@ fn area_light_photon_directions_are_cosine_distributed() {
     let mut rng = Rng::keyed(2, &[]);
     for _ in 0..n {
         let e = light
-            .emit(rng.next_f32(), rng.next_2d(), rng.next_2d())
+            .emit(rng.next_f32(), rng.next_2d(), rng.next_2d(), &Lambda::Rgb)
             .expect("emits");
         let w = frame.to_local(e.dir);
         let c = f64::from(w.z).clamp(0.0, 1.0 - 1e-12);

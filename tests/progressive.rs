@@ -18,6 +18,7 @@ fn config(method: Method, w: u32, h: u32, photons: u64) -> ProgressiveConfig {
         initial_radius: None,
         max_depth: 16,
         light_samples: 1,
+        spectral: false,
     }
 }
 

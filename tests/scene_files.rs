@@ -314,14 +314,14 @@ falloff = 10
             _ => None,
         })
         .expect("the quad light");
-    let l = quad.emitted(Vec3::Z, Vec3::Z);
+    let l = quad.emitted(Vec3::Z, Vec3::Z, &photon::spectrum::Lambda::Rgb);
     assert!((l.x - 10.0 / (PI * 0.36)).abs() < 1e-3, "radiance {l:?}");
     // A point light's intensity is Φ / 4π.
     let point = s.lights().iter().find_map(|l| match l {
         photon::light::Light::Point(p) => Some(p),
         _ => None,
     });
-    assert!((point.expect("point").intensity.x - 7.0 / (4.0 * PI)).abs() < 1e-6);
+    assert!((point.expect("point").intensity.rgb().x - 7.0 / (4.0 * PI)).abs() < 1e-6);
 }
 
 fn albedo_at(s: &Scene, origin: Vec3, dir: Vec3) -> Rgb {

@@ -165,6 +165,11 @@ fn blender_properties(addon: &str) -> Vec<(String, String, String, String)> {
                     .trim_matches('"')
                     .replace('_', "")
             })
+            // Python's booleans, as the renderer writes them.
+            .map(|d| match d.as_str() {
+                "True" | "False" => d.to_lowercase(),
+                _ => d,
+            })
             .unwrap_or_default();
         found.push((name.to_owned(), kind, default, text.to_owned()));
     }

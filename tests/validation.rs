@@ -38,7 +38,7 @@ const BOUNDS: &[(&str, [f64; 4])] = &[
 #[test]
 fn every_scene_matches_its_reference_with_every_integrator() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("validation");
-    let cases = find_cases(&dir).expect("reads validation/");
+    let cases = find_cases(&dir, false).expect("reads validation/");
     let names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(
         names,

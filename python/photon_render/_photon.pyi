@@ -39,6 +39,7 @@ def render(
     seed: int | None = None,
     max_depth: int | None = None,
     light_samples: int | None = None,
+    spectral: bool | None = None,
     max_radiance: float | None = None,
     photons: int | None = None,
     caustic_photons: int | None = None,

@@ -3,11 +3,13 @@ Cornell box built in Python, rendered with the Photon engine (F12's path: bpy.op
 against `photon render` of the same scene exported to glTF by Blender. Skipped where bpy is
 not installed."""
 
+import json
 import math
 import os
 import re
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import numpy as np
@@ -445,3 +447,84 @@ def test_a_volume_object_maps_to_a_grid_medium_in_its_place(tmp_path):
     inside = [(y, x) for y, x in changed if x0 - 1 <= x <= x1 + 1 and y0 - 1 <= y <= y1 + 1]
     # The smoke's shadow on the floor may fall outside its own box.
     assert len(inside) > 0.5 * len(changed), (len(inside), len(changed), (x0, x1, y0, y1))
+
+
+def glb_json(path):
+    """The JSON chunk of a GLB file."""
+    data = Path(path).read_bytes()
+    length = int.from_bytes(data[12:16], "little")
+    assert data[:4] == b"glTF" and data[16:20] == b"JSON"
+    return json.loads(data[20:20 + length])
+
+
+def test_a_glass_dispersion_reaches_photon_as_its_abbe_number(tmp_path):
+    """Blender (4.5, 5.0) has no dispersion of its own: no Dispersion input on the Principled
+    BSDF, and no KHR_materials_dispersion from its glTF exporter. The add-on takes it, as newer
+    glTF exporters do, from the Dispersion input (glTF's 20 / V_d) of the material's glTF
+    Material Output group, and writes it into the export. Photon renders that glass (spectral)
+    bit for bit as the TOML glass of the same index and Abbe number, and unlike the glass
+    without dispersion."""
+    v_d, ior = 40.0, 1.5
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x = scene.render.resolution_y = 32
+    scene.render.resolution_percentage = 100
+    glass = principled("crystal", (1, 1, 1), roughness=0.0,
+                       **{"Transmission Weight": 1.0, "IOR": ior})
+    # The glTF add-on's settings group (Add > Output > glTF Material Output), as newer
+    # Blenders make it: Occlusion, Thickness (KHR_materials_volume), Dispersion.
+    group = bpy.data.node_groups.new("glTF Material Output", "ShaderNodeTree")
+    for name in ("Occlusion", "Thickness", "Dispersion"):
+        group.interface.new_socket(name, socket_type="NodeSocketFloat")
+    settings = glass.node_tree.nodes.new("ShaderNodeGroup")
+    settings.node_tree = group
+    settings.inputs["Dispersion"].default_value = 20.0 / v_d
+    # A glass ball in front of a square area light, which it images with coloured edges.
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=0.5)
+    bpy.ops.object.shade_smooth()
+    bpy.context.active_object.data.materials.append(glass)
+    bpy.ops.object.light_add(type="AREA", location=(0, 1.5, 0), rotation=(-math.pi / 2, 0, 0))
+    light = bpy.context.active_object.data
+    light.shape, light.size, light.energy = "SQUARE", 0.6, 20.0
+    bpy.ops.object.camera_add(location=(0, -3, 0), rotation=(math.pi / 2, 0, 0))
+    scene.camera = bpy.context.active_object
+    scene.camera.data.angle = math.radians(30)
+    reports = []
+    path, _ = photon_blender.export_scene(
+        bpy.context.evaluated_depsgraph_get(), str(tmp_path), reports.append
+    )
+    assert reports == [], reports
+    doc = glb_json(tmp_path / "meshes.glb")
+    (material,) = doc["materials"]
+    assert material["extensions"]["KHR_materials_dispersion"]["dispersion"] == pytest.approx(
+        20.0 / v_d
+    )
+    assert "KHR_materials_dispersion" in doc["extensionsUsed"]
+    assert material.get("extensions", {}).get("KHR_materials_ior", {"ior": 1.5})["ior"] == ior
+    # The Spectral setting asks the integrator for spectral rendering.
+    spectral = types.SimpleNamespace(integrator="path", seed=0, max_depth=0, spp=0, spectral=True)
+    assert photon_blender.options(spectral)["spectral"] is True
+
+    # Photon: the export, and the same scene with the ball's glass given in TOML.
+    text = Path(path).read_text()
+    mesh = 'file = "meshes.glb"\n'
+    assert mesh in text
+
+    def render(name, glass_toml=None):
+        scene_file = tmp_path / f"{name}.toml"
+        if glass_toml is None:
+            scene_file.write_text(text)
+        else:
+            scene_file.write_text(text.replace(mesh, mesh + 'material = "glass"\n')
+                                  + '\n[materials.glass]\ntype = "glass"\n' + glass_toml)
+        out = tmp_path / f"{name}.pfm"
+        subprocess.run([photon_cli(), "render", str(scene_file), "--integrator", "path",
+                        "--spp", "32", "--spectral", "-q", "-o", str(out)], check=True)
+        return out
+
+    exported = render("exported")
+    same = render("abbe", f"ior = {ior}\nabbe = {v_d}\n")
+    plain = render("plain", f"ior = {ior}\n")
+    assert np.array_equal(read_pfm(exported), read_pfm(same))
+    table, rel_mse, _ = compare(exported, plain)
+    assert rel_mse > 0.01, table

@@ -45,6 +45,10 @@ pub struct TraceArgs {
     /// Three single-channel traces (red, green, blue), as the original project did.
     #[arg(long)]
     per_channel: bool,
+    /// Spectral photons: three wavelengths each, one after a dispersive glass (stored with
+    /// the RGB colour of their power).
+    #[arg(long, conflicts_with = "per_channel")]
+    spectral: bool,
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Worker threads [default: one per core]; the maps do not depend on it.
@@ -134,6 +138,7 @@ fn trace(a: &TraceArgs) -> Result<()> {
         max_depth: a.max_depth,
         absorption: a.absorption,
         per_channel: a.per_channel,
+        spectral: a.spectral,
         seed: a.seed,
     };
     config.validate()?;

@@ -18,6 +18,10 @@ pub struct ValidateArgs {
     /// The test suite's small budget (32², few samples) instead of the full one (64²).
     #[arg(long)]
     quick: bool,
+    /// Spectral transport, against each scene's reference-spectral.exr (Mitsuba's
+    /// llvm_ad_spectral) instead of reference.exr; scenes without one are left out.
+    #[arg(long)]
+    spectral: bool,
     /// Also write the table, with the budget, to this Markdown file (e.g. validation/REPORT.md).
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
@@ -34,8 +38,11 @@ fn parse_method(s: &str) -> Result<Method, String> {
 }
 
 pub fn run_suite(a: &ValidateArgs) -> Result<()> {
-    let budget = if a.quick { Budget::QUICK } else { Budget::FULL };
-    let mut cases = find_cases(&a.dir)?;
+    let budget = Budget {
+        spectral: a.spectral,
+        ..if a.quick { Budget::QUICK } else { Budget::FULL }
+    };
+    let mut cases = find_cases(&a.dir, a.spectral)?;
     if !a.scenes.is_empty() {
         for s in &a.scenes {
             if !cases.iter().any(|c| &c.name == s) {
@@ -46,8 +53,9 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
     }
     if cases.is_empty() {
         bail!(
-            "{}: no validation scenes (folders NAME/ with NAME.toml and reference.exr)",
-            a.dir.display()
+            "{}: no validation scenes (folders NAME/ with NAME.toml and {})",
+            a.dir.display(),
+            photon::validate::reference_file_name(a.spectral)
         );
     }
     let methods = if a.integrators.is_empty() {

@@ -5,7 +5,7 @@ use super::mesh::{self, ImportedMaterial};
 use super::source::{Diagnostic, Item};
 use super::{
     ColorSpec, ConductorSpec, EmissionSpec, EnvironmentSpec, ImageRef, Intensity, LightSpec,
-    MaterialSpec, MediaSides, SceneDesc, ShapeKind, ShapeSpec, Sky, compose,
+    LightSpectrum, MaterialSpec, MediaSides, SceneDesc, ShapeKind, ShapeSpec, Sky, compose,
 };
 use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
@@ -14,13 +14,15 @@ use crate::io::texture::Encoding;
 use crate::light::{EnvironmentLight, SpotLight};
 use crate::material::microfacet::Ggx;
 use crate::material::{
-    Conductor, ConductorFresnel, Dielectric, Lambertian, Material, Mirror, Pbr, RoughDielectric,
+    Conductor, ConductorFresnel, Dielectric, Dispersion, Lambertian, Material, Mirror, Pbr,
+    RoughDielectric,
 };
 use crate::math::{Rgb, Vec3};
 use crate::medium::{Boundary, GridMedium, HenyeyGreenstein, Homogeneous, MediumId, grid_file};
 use crate::modeling::PolyMesh;
 use crate::modeling::pot::{PotParams, pot};
 use crate::scene::{Emission, Scene, SceneBuilder, TextureMaps, TriangleMesh};
+use crate::spectrum::Spectrum;
 use crate::texture::{Checker, MappedTexture, Texture, UvMapping};
 use glam::Affine3A;
 use std::collections::HashMap;
@@ -183,12 +185,13 @@ fn add_light(b: &mut SceneBuilder, ctx: &mut Context, light: &LightSpec) -> Resu
         LightSpec::Point {
             position,
             intensity,
+            spectrum,
         } => {
             let i = match *intensity {
                 Intensity::Intensity(i) => i,
                 Intensity::Power(p) => p / (4.0 * PI),
             };
-            b.point_light(*position, i);
+            b.point_light(*position, emitted(i, *spectrum));
         }
         LightSpec::Spot {
             position,
@@ -196,6 +199,7 @@ fn add_light(b: &mut SceneBuilder, ctx: &mut Context, light: &LightSpec) -> Resu
             intensity,
             angle_deg,
             falloff_deg,
+            spectrum,
         } => {
             let reach = (*look_at - *position).length_squared();
             if reach.is_nan() || reach <= 0.0 {
@@ -203,21 +207,38 @@ fn add_light(b: &mut SceneBuilder, ctx: &mut Context, light: &LightSpec) -> Resu
                     "a spot light points nowhere: its look_at equals its position".into(),
                 ));
             }
+            let make_white = |i: Rgb| {
+                SpotLight::new(
+                    *position,
+                    *look_at - *position,
+                    Spectrum::illuminant(i),
+                    *angle_deg,
+                    *falloff_deg,
+                )
+            };
             let make = |i: Rgb| {
-                SpotLight::new(*position, *look_at - *position, i, *angle_deg, *falloff_deg)
+                SpotLight::new(
+                    *position,
+                    *look_at - *position,
+                    emitted(i, *spectrum),
+                    *angle_deg,
+                    *falloff_deg,
+                )
             };
             let i = match *intensity {
                 Intensity::Intensity(i) => i,
-                // Power is linear in intensity: scale a unit light's power.
-                Intensity::Power(p) => p / make(Rgb::ONE).power().x,
+                // Power is linear in intensity: scale a unit light's power (as white: a
+                // spectrum's brightness is its luminance, like white's).
+                Intensity::Power(p) => p / make_white(Rgb::ONE).power().x,
             };
             b.spot_light(make(i));
         }
         LightSpec::Directional {
             direction,
             irradiance,
+            spectrum,
         } => {
-            b.directional_light(*direction, *irradiance);
+            b.directional_light(*direction, emitted(*irradiance, *spectrum));
         }
         LightSpec::Area(shape) => add_shape(b, ctx, shape)?,
         LightSpec::Environment(e) => {
@@ -282,6 +303,7 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
             transmittance,
             alpha,
             attenuation,
+            dispersion,
         } => b.material_with_maps(
             if *alpha > 0.0 {
                 Material::RoughDielectric(RoughDielectric::new(
@@ -294,6 +316,7 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
             },
             TextureMaps {
                 attenuation: *attenuation,
+                dispersion: *dispersion,
                 ..TextureMaps::default()
             },
         )?,
@@ -338,6 +361,7 @@ fn add_material(b: &mut SceneBuilder, spec: &MaterialSpec, base_dir: &Path) -> R
                 },
                 coverage: p.coverage,
                 attenuation: None,
+                dispersion: Dispersion::None,
             };
             let pbr = Pbr::new(base, p.metallic, p.roughness).with_specular(p.specular);
             b.material_with_maps(Material::Pbr(pbr), maps)?
@@ -386,6 +410,14 @@ fn environment_light(e: &EnvironmentSpec, base_dir: &Path) -> Result<Environment
     })
 }
 
+/// Emitted light of RGB colour `rgb`, or of `spectrum` with brightness `rgb` (then grey).
+fn emitted(rgb: Rgb, spectrum: Option<LightSpectrum>) -> Spectrum {
+    match spectrum {
+        None => Spectrum::illuminant(rgb),
+        Some(s) => s.spectrum(rgb.x),
+    }
+}
+
 /// Radiance of an emission spec over a surface of world-space `area`.
 fn radiance(e: &EmissionSpec, area: f32, base_dir: &Path) -> Result<Emission> {
     Ok(match e {
@@ -393,6 +425,7 @@ fn radiance(e: &EmissionSpec, area: f32, base_dir: &Path) -> Result<Emission> {
             radiance,
             two_sided,
             texture,
+            spectrum,
         } => {
             let (texture, texture_mapping) = match texture {
                 None => (None, UvMapping::IDENTITY),
@@ -403,13 +436,17 @@ fn radiance(e: &EmissionSpec, area: f32, base_dir: &Path) -> Result<Emission> {
                 Some(ImageRef::Decoded(t)) => (Some(t.image.clone()), t.mapping),
             };
             Emission {
-                radiance: *radiance,
+                radiance: emitted(*radiance, *spectrum),
                 two_sided: *two_sided,
                 texture,
                 texture_mapping,
             }
         }
-        EmissionSpec::Power { power, two_sided } => {
+        EmissionSpec::Power {
+            power,
+            two_sided,
+            spectrum,
+        } => {
             if area.is_nan() || area <= 0.0 {
                 return Err(Error::InvalidScene(
                     "an emitter given by its power has no area".into(),
@@ -418,7 +455,7 @@ fn radiance(e: &EmissionSpec, area: f32, base_dir: &Path) -> Result<Emission> {
             // Φ = L · π · A per lit side (Lambertian emitter).
             let sides = if *two_sided { 2.0 } else { 1.0 };
             Emission {
-                radiance: *power / (sides * PI * area),
+                radiance: emitted(*power / (sides * PI * area), *spectrum),
                 two_sided: *two_sided,
                 texture: None,
                 texture_mapping: UvMapping::IDENTITY,

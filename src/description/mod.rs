@@ -70,12 +70,14 @@ pub enum MaterialSpec {
         reflectance: Rgb,
     },
     /// Dielectric: smooth (`alpha` 0: Fresnel reflection and refraction) or rough (GGX),
-    /// absorbing inside by `attenuation` (`None`: clear).
+    /// absorbing inside by `attenuation` (`None`: clear), its index varying with wavelength
+    /// by `dispersion` (then `ior` is the index at the d line).
     Glass {
         ior: f32,
         transmittance: Rgb,
         alpha: f32,
         attenuation: Option<crate::material::Attenuation>,
+        dispersion: crate::material::Dispersion,
     },
     /// GGX metal; `alpha` along the shading frame's two tangents (equal: isotropic).
     Conductor {
@@ -204,9 +206,55 @@ pub enum EmissionSpec {
         radiance: Rgb,
         two_sided: bool,
         texture: Option<ImageRef>,
+        /// The colour as a spectrum (then `radiance` is grey: its brightness).
+        spectrum: Option<LightSpectrum>,
     },
     /// Total flux, W per channel, spread evenly over the surface.
-    Power { power: Rgb, two_sided: bool },
+    Power {
+        power: Rgb,
+        two_sided: bool,
+        /// The colour as a spectrum (then `power` is grey: its brightness).
+        spectrum: Option<LightSpectrum>,
+    },
+}
+
+/// A light's colour given as a spectrum rather than RGB: a blackbody of a temperature, or a
+/// CIE standard illuminant. Each is normalised to luminance 1, so the light's intensity,
+/// power, irradiance or radiance (then one number) is its brightness, as for white RGB light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightSpectrum {
+    /// Planck's law at this temperature in kelvin.
+    Blackbody(f32),
+    /// CIE illuminant D65 (daylight; the white of sRGB).
+    D65,
+    /// CIE illuminant A (incandescent, 2856 K).
+    A,
+}
+
+impl LightSpectrum {
+    /// Temperatures accepted: the CIE's Planckian locus is tabulated from 1000 K; above
+    /// 40 000 K the colour no longer changes visibly.
+    pub const KELVIN: std::ops::RangeInclusive<f32> = 1000.0..=40_000.0;
+
+    /// By name: `D65`, `A` (any case).
+    pub fn named(name: &str) -> Option<Self> {
+        match name.to_ascii_uppercase().as_str() {
+            "D65" => Some(LightSpectrum::D65),
+            "A" => Some(LightSpectrum::A),
+            _ => None,
+        }
+    }
+
+    /// The spectrum times `brightness`.
+    pub fn spectrum(self, brightness: f32) -> crate::spectrum::Spectrum {
+        use crate::spectrum::Spectrum;
+        let shape = match self {
+            LightSpectrum::Blackbody(k) => Spectrum::blackbody(k),
+            LightSpectrum::D65 => Spectrum::named("D65").expect("D65 is built in"),
+            LightSpectrum::A => Spectrum::named("A").expect("A is built in"),
+        };
+        shape.scaled(brightness)
+    }
 }
 
 /// One step of an object's placement. A list of steps applies first to last.
@@ -330,6 +378,8 @@ pub enum LightSpec {
     Point {
         position: Vec3,
         intensity: Intensity,
+        /// The colour as a spectrum (then the intensity is grey: its brightness).
+        spectrum: Option<LightSpectrum>,
     },
     Spot {
         position: Vec3,
@@ -339,9 +389,14 @@ pub enum LightSpec {
         angle_deg: f32,
         /// Width of the soft edge inside the cone, degrees.
         falloff_deg: f32,
+        spectrum: Option<LightSpectrum>,
     },
     /// Light from one direction (the sun): irradiance in W/m² on a surface facing it.
-    Directional { direction: Vec3, irradiance: Rgb },
+    Directional {
+        direction: Vec3,
+        irradiance: Rgb,
+        spectrum: Option<LightSpectrum>,
+    },
     /// An emissive shape (disk, quad, sphere, mesh …).
     Area(Box<ShapeSpec>),
     /// The sky: light from every direction, at most one per scene.

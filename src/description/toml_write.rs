@@ -3,10 +3,11 @@
 //! `f32`, so a written scene renders bit-identically.
 
 use super::{
-    ColorSpec, ConductorSpec, EmissionSpec, ImageRef, Intensity, LightSpec, MaterialSpec,
-    SceneDesc, ShapeKind, ShapeSpec, Sky, TransformStep,
+    ColorSpec, ConductorSpec, EmissionSpec, ImageRef, Intensity, LightSpec, LightSpectrum,
+    MaterialSpec, SceneDesc, ShapeKind, ShapeSpec, Sky, TransformStep,
 };
 use crate::error::{Error, Result};
+use crate::material::Dispersion;
 use crate::math::Vec3;
 use std::fmt::Write;
 use std::path::Path;
@@ -52,9 +53,24 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 transmittance,
                 alpha,
                 attenuation,
+                dispersion,
             } => {
                 w.kv("type", "\"glass\"");
-                w.kv("ior", &float(*ior));
+                match *dispersion {
+                    Dispersion::None => w.kv("ior", &float(*ior)),
+                    Dispersion::Cauchy { a, b } => w.kv(
+                        "cauchy",
+                        &format!("{{ a = {}, b = {} }}", float(a), float(b)),
+                    ),
+                    Dispersion::Sellmeier { b, c } => w.kv(
+                        "sellmeier",
+                        &format!(
+                            "{{ b = {}, c = {} }}",
+                            vec3(Vec3::from_array(b)),
+                            vec3(Vec3::from_array(c))
+                        ),
+                    ),
+                }
                 w.kv("transmittance", &vec3(*transmittance));
                 if *alpha > 0.0 {
                     w.kv("alpha", &float(*alpha));
@@ -140,10 +156,12 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
             LightSpec::Point {
                 position,
                 intensity,
+                spectrum,
             } => {
                 w.kv("type", "\"point\"");
                 w.kv("position", &vec3(*position));
                 w.intensity(intensity);
+                w.spectrum(spectrum);
             }
             LightSpec::Spot {
                 position,
@@ -151,6 +169,7 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 intensity,
                 angle_deg,
                 falloff_deg,
+                spectrum,
             } => {
                 w.kv("type", "\"spot\"");
                 w.kv("position", &vec3(*position));
@@ -158,14 +177,17 @@ pub fn to_toml(desc: &SceneDesc, out_dir: &Path) -> Result<String> {
                 w.intensity(intensity);
                 w.kv("angle", &float(*angle_deg));
                 w.kv("falloff", &float(*falloff_deg));
+                w.spectrum(spectrum);
             }
             LightSpec::Directional {
                 direction,
                 irradiance,
+                spectrum,
             } => {
                 w.kv("type", "\"directional\"");
                 w.kv("direction", &vec3(*direction));
                 w.kv("irradiance", &vec3(*irradiance));
+                w.spectrum(spectrum);
             }
             LightSpec::Area(s) => w.shape(s, true),
             LightSpec::Environment(e) => {
@@ -198,6 +220,15 @@ struct Writer {
 }
 
 /// `f32` in its shortest round-trip form, always with a `.` or exponent so TOML reads a float.
+/// The key and value that give a light's spectrum.
+fn spectrum_kv(s: &Option<LightSpectrum>) -> Option<(&'static str, String)> {
+    Some(match (*s)? {
+        LightSpectrum::Blackbody(k) => ("temperature", float(k)),
+        LightSpectrum::D65 => ("illuminant", string("D65")),
+        LightSpectrum::A => ("illuminant", string("A")),
+    })
+}
+
 fn float(x: f32) -> String {
     format!("{x:?}")
 }
@@ -300,6 +331,12 @@ impl Writer {
         }
     }
 
+    fn spectrum(&mut self, s: &Option<LightSpectrum>) {
+        if let Some((k, v)) = spectrum_kv(s) {
+            self.kv(k, &v);
+        }
+    }
+
     fn shape(&mut self, s: &ShapeSpec, is_light: bool) {
         self.shape_kind(&s.kind);
         if let Some(m) = &s.material {
@@ -318,13 +355,24 @@ impl Writer {
             self.kv("transform", &format!("[{}]", steps.join(", ")));
         }
         if let Some(e) = &s.emission {
-            let (k, c, two_sided, texture) = match e {
+            let (k, c, two_sided, texture, spectrum) = match e {
                 EmissionSpec::Radiance {
                     radiance,
                     two_sided,
                     texture,
-                } => ("radiance", *radiance, *two_sided, texture.as_ref()),
-                EmissionSpec::Power { power, two_sided } => ("power", *power, *two_sided, None),
+                    spectrum,
+                } => (
+                    "radiance",
+                    *radiance,
+                    *two_sided,
+                    texture.as_ref(),
+                    spectrum,
+                ),
+                EmissionSpec::Power {
+                    power,
+                    two_sided,
+                    spectrum,
+                } => ("power", *power, *two_sided, None, spectrum),
             };
             // A texture embedded in a glTF file cannot be written; it is left out (warned
             // about by `to_toml`'s caller through the material, which cannot be written either).
@@ -339,10 +387,17 @@ impl Writer {
                 if let Some(t) = texture.strip_prefix(", texture = ") {
                     self.kv("texture", t);
                 }
+                self.spectrum(spectrum);
             } else {
+                let spectrum = spectrum_kv(spectrum)
+                    .map(|(k, v)| format!(", {k} = {v}"))
+                    .unwrap_or_default();
                 self.kv(
                     "emission",
-                    &format!("{{ {k} = {}, two_sided = {two_sided}{texture} }}", vec3(c)),
+                    &format!(
+                        "{{ {k} = {}, two_sided = {two_sided}{texture}{spectrum} }}",
+                        vec3(c)
+                    ),
                 );
             }
         }

@@ -10,6 +10,7 @@ use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::medium::{MediumId, spectral_mis};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Interaction, Scene};
+use crate::spectrum::Lambda;
 
 #[derive(Clone, Debug)]
 pub struct DirectConfig {
@@ -36,6 +37,7 @@ pub(super) fn radiance(
     c: &DirectConfig,
     scene: &Scene,
     ray: &Ray,
+    lambda: &mut Lambda,
     rng: &mut Rng,
     stats: &mut RayStats,
 ) -> Sample {
@@ -57,6 +59,7 @@ pub(super) fn radiance(
             weight: 1.0,
             medium: scene.atmosphere(),
             ratio: Rgb::ONE,
+            lambda: *lambda,
         },
         &mut walk,
     );
@@ -82,13 +85,15 @@ struct Walk<'a> {
 }
 
 /// Where a branch of the camera path is: its specular depth, its largest channel weight, the
-/// medium it travels in, and the channels' densities of its distances over the hero's.
+/// medium it travels in, the channels' densities of its distances over the hero's, and its
+/// wavelengths (a dispersive glass on one branch leaves the others their three).
 #[derive(Clone, Copy)]
 struct Branch {
     depth: u32,
     weight: f32,
     medium: Option<MediumId>,
     ratio: Rgb,
+    lambda: Lambda,
 }
 
 /// The light along `ray`. In a medium, a distance is sampled: light scattered once toward
@@ -103,13 +108,14 @@ fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk
     let (hit, medium) = match step.interaction {
         // Seen from the camera or along delta lobes: no light sample could have found it.
         Interaction::Escaped => {
-            return step.weight * scene.escaped(ray.dir) * spectral_mis(ratio);
+            return step.weight * scene.escaped(ray.dir, &at.lambda) * spectral_mis(ratio);
         }
         Interaction::Scatter { p, medium } => {
             let mp = MediumPoint {
                 p,
                 wo: -ray.dir,
                 medium,
+                lambda: at.lambda,
             };
             let l = direct_light_in_medium(c.light_samples, scene, &mp, walk.rng, walk.stats);
             return step.weight * l * spectral_mis(ratio);
@@ -137,12 +143,12 @@ fn surface(
     scene: &Scene,
     ray: &Ray,
     hit: &Hit,
-    at: Branch,
+    mut at: Branch,
     walk: &mut Walk,
 ) -> Rgb {
     let wo = -ray.dir;
-    let mut l = scene.emitted(hit, wo);
-    let sp = ShadingPoint::new(scene, hit, wo).in_medium(at.medium);
+    let mut l = scene.emitted(hit, wo, &at.lambda);
+    let sp = ShadingPoint::new(scene, hit, wo, &mut at.lambda).in_medium(at.medium);
     let lobes = sp.material.lobes();
     if lobes.has_density() {
         if sp.material.has(Part::Rough) && walk.first_diffuse.is_none_or(|f| at.weight > f.0) {
@@ -181,6 +187,7 @@ fn specular(
             weight: at.weight * b.weight.max_element(),
             medium: scene.medium_after(sp.hit, sp.medium, wi),
             ratio: at.ratio,
+            lambda: sp.lambda,
         };
         l += b.weight * trace(c, scene, &next, branch, walk);
     }

@@ -10,6 +10,7 @@ use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::medium::MediumId;
 use crate::sampling::{Rng, Sampler};
 use crate::scene::{Hit, NO_LIGHT, Scene};
+use crate::spectrum::Lambda;
 
 /// Unoccluded contribution f·L·|cos|/pdf of one light sample, before any MIS weight; zero if
 /// the light is hidden. Also returns the BSDF's density for the same direction (for MIS).
@@ -91,6 +92,8 @@ pub(crate) struct MediumPoint {
     pub p: Vec3,
     pub wo: Vec3,
     pub medium: MediumId,
+    /// The wavelengths of the path that scattered here.
+    pub lambda: Lambda,
 }
 
 /// phase·L·Tr/pdf of one light sample at a point in a medium (no cosine: a medium has no
@@ -120,7 +123,7 @@ pub(crate) fn one_light_in_medium(
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
-    let Some(ls) = light_by_power(scene, mp.p, rng) else {
+    let Some(ls) = light_by_power(scene, mp.p, &mp.lambda, rng) else {
         return Rgb::ZERO;
     };
     let (value, phase_pdf) = in_scattered(scene, mp, &ls, rng, stats);
@@ -150,7 +153,7 @@ pub(crate) fn direct_light_in_medium(
         let mut acc = Rgb::ZERO;
         for _ in 0..samples {
             let u_pick = rng.next_f32();
-            if let Some(ls) = light.sample_li(mp.p, u_pick, rng.next_2d()) {
+            if let Some(ls) = light.sample_li(mp.p, u_pick, rng.next_2d(), &mp.lambda) {
                 acc += in_scattered(scene, mp, &ls, rng, stats).0;
             }
         }
@@ -224,7 +227,7 @@ pub(crate) fn direct_light(
         let mut acc = Rgb::ZERO;
         for _ in 0..samples {
             let u_pick = rng.next_f32();
-            let Some(ls) = light.sample_li(sp.hit.p, u_pick, rng.next_2d()) else {
+            let Some(ls) = light.sample_li(sp.hit.p, u_pick, rng.next_2d(), &sp.lambda) else {
                 continue;
             };
             let wi = sp.frame.to_local(ls.wi);
@@ -291,7 +294,7 @@ fn emission_by_rough_bsdf(
         return match scene.environment() {
             Some((_, sky)) => {
                 s.weight
-                    * sky.radiance(wi)
+                    * sky.radiance(wi, &sp.lambda)
                     * power_heuristic(counts.bsdf * s.pdf, counts.light * sky.pdf(wi))
             }
             None => Rgb::ZERO,
@@ -300,7 +303,7 @@ fn emission_by_rough_bsdf(
     if hit.light == NO_LIGHT || !scene.lights()[hit.light as usize].is_bsdf_sampled_at(sp.hit.p) {
         return Rgb::ZERO;
     }
-    let le = scene.emitted(&hit, -wi);
+    let le = scene.emitted(&hit, -wi, &sp.lambda);
     if le == Rgb::ZERO {
         return Rgb::ZERO;
     }
@@ -328,6 +331,7 @@ pub(crate) fn escaped_radiance(
     scene: &Scene,
     dir: Vec3,
     p_bsdf: Option<f32>,
+    lambda: &Lambda,
 ) -> Rgb {
     let Some((_, env)) = scene.environment() else {
         return Rgb::ZERO;
@@ -335,16 +339,21 @@ pub(crate) fn escaped_radiance(
     let w = p_bsdf.map_or(1.0, |p| {
         power_heuristic(p, light_samples.max(1) as f32 * env.pdf(dir))
     });
-    env.radiance(dir) * w
+    env.radiance(dir, lambda) * w
 }
 
 /// A sample of one light chosen by power, seen from `p`; its density includes the choice.
-fn light_by_power(scene: &Scene, p: Vec3, rng: &mut impl Sampler) -> Option<LightSample> {
+fn light_by_power(
+    scene: &Scene,
+    p: Vec3,
+    lambda: &Lambda,
+    rng: &mut impl Sampler,
+) -> Option<LightSample> {
     let u_choose = rng.next_f32();
     let u_pick = rng.next_f32();
     let u = rng.next_2d();
     let (i, pmf, _) = scene.choose_light(u_choose)?;
-    let mut ls = scene.lights()[i].sample_li(p, u_pick, u)?;
+    let mut ls = scene.lights()[i].sample_li(p, u_pick, u, lambda)?;
     ls.pdf *= pmf;
     Some(ls)
 }
@@ -356,7 +365,7 @@ pub(crate) fn one_light_by_power(
     rng: &mut Rng,
     stats: &mut RayStats,
 ) -> Rgb {
-    let Some(ls) = light_by_power(scene, sp.hit.p, rng) else {
+    let Some(ls) = light_by_power(scene, sp.hit.p, &sp.lambda, rng) else {
         return Rgb::ZERO;
     };
     let Some((value, bsdf_pdf)) = light_sample_contribution(scene, sp, &ls, rng, stats) else {

@@ -20,6 +20,7 @@ use crate::material::Material;
 use crate::math::{Frame, Ray, Rgb, Vec3};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Scene};
+use crate::spectrum::Lambda;
 
 /// Counts of rays traced, for the summary line and benchmarks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -56,6 +57,23 @@ pub struct Sample {
 }
 
 impl Sample {
+    /// The sample of a path of `lambda` in linear Rec. 709 RGB: its light through CIE XYZ
+    /// ([`Lambda::to_rgb`]), its albedo as the colour the reflectance has under the white of
+    /// RGB (D65), as an albedo given in RGB would. RGB samples are returned as they are.
+    pub fn to_rgb(self, lambda: &Lambda) -> Self {
+        if !lambda.is_spectral() {
+            return self;
+        }
+        Self {
+            beauty: lambda.to_rgb(self.beauty),
+            direct: lambda.to_rgb(self.direct),
+            caustic: lambda.to_rgb(self.caustic),
+            indirect: lambda.to_rgb(self.indirect),
+            albedo: lambda.to_rgb(self.albedo * lambda.illuminant(Rgb::ONE)),
+            normal: self.normal,
+        }
+    }
+
     /// The sample scaled so that no channel of its radiance exceeds `max`, its colour (and
     /// the split `direct + caustic + indirect = beauty`) kept: the clamp of pbrt-v4's
     /// `maxcomponentvalue`. It trades the variance of rare bright paths for a darker bias.
@@ -96,12 +114,21 @@ impl Integrator {
         matches!(self, Integrator::Photon(_))
     }
 
-    /// One camera sample along `ray`.
-    pub fn sample(&self, scene: &Scene, ray: &Ray, rng: &mut Rng, stats: &mut RayStats) -> Sample {
+    /// One camera sample along `ray`, carrying the channels of `lambda` (the sample's
+    /// values are at them: see [`Sample::to_rgb`]); a dispersive glass on the path may end
+    /// all but its hero wavelength.
+    pub fn sample(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        lambda: &mut Lambda,
+        rng: &mut Rng,
+        stats: &mut RayStats,
+    ) -> Sample {
         match self {
-            Integrator::Direct(c) => direct::radiance(c, scene, ray, rng, stats),
-            Integrator::Path(c) => path::radiance(c, scene, ray, rng, stats),
-            Integrator::Photon(p) => p.sample(scene, ray, rng, stats),
+            Integrator::Direct(c) => direct::radiance(c, scene, ray, lambda, rng, stats),
+            Integrator::Path(c) => path::radiance(c, scene, ray, lambda, rng, stats),
+            Integrator::Photon(p) => p.sample(scene, ray, lambda, rng, stats),
         }
     }
 }
@@ -116,11 +143,15 @@ pub(crate) struct ShadingPoint<'a> {
     pub ng: Vec3,
     /// The medium the path reached the point through (see [`Scene::medium_after`]).
     pub medium: Option<crate::medium::MediumId>,
+    /// The path's wavelengths, after the point's material (a dispersive glass ends all but
+    /// the hero).
+    pub lambda: Lambda,
 }
 
 impl<'a> ShadingPoint<'a> {
-    pub fn new(scene: &'a Scene, hit: &'a Hit, wo: Vec3) -> Self {
-        let (material, frame) = scene.surface(hit, wo);
+    /// The point a path of `lambda` reached; `lambda` is updated as the material requires.
+    pub fn new(scene: &'a Scene, hit: &'a Hit, wo: Vec3, lambda: &mut Lambda) -> Self {
+        let (material, frame) = scene.surface(hit, wo, lambda);
         Self {
             hit,
             material,
@@ -128,6 +159,7 @@ impl<'a> ShadingPoint<'a> {
             wo_local: frame.to_local(wo),
             ng: hit.ng_facing(wo),
             medium: scene.atmosphere(),
+            lambda: *lambda,
         }
     }
 

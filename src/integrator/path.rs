@@ -10,6 +10,7 @@ use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::medium::spectral_mis;
 use crate::sampling::Rng;
 use crate::scene::{Interaction, NO_LIGHT, Scene};
+use crate::spectrum::Lambda;
 
 #[derive(Clone, Debug)]
 pub struct PathConfig {
@@ -32,6 +33,7 @@ pub(super) fn radiance(
     c: &PathConfig,
     scene: &Scene,
     camera_ray: &Ray,
+    lambda: &mut Lambda,
     rng: &mut Rng,
     stats: &mut RayStats,
 ) -> Sample {
@@ -67,7 +69,7 @@ pub(super) fn radiance(
                     } else {
                         power_heuristic(prev_pdf, scene.light_choice_pmf(i) * env.pdf(ray.dir))
                     };
-                    l += beta * env.radiance(ray.dir) * (w * mis);
+                    l += beta * env.radiance(ray.dir, lambda) * (w * mis);
                 }
                 break;
             }
@@ -81,6 +83,7 @@ pub(super) fn radiance(
                     p,
                     wo: -ray.dir,
                     medium: m,
+                    lambda: *lambda,
                 };
                 l += beta * one_light_in_medium(scene, &mp, rng, stats) * mis;
                 let s = scene.medium(m).phase().sample(mp.wo, rng.next_2d());
@@ -98,7 +101,7 @@ pub(super) fn radiance(
         };
         let wo = -ray.dir;
         if hit.light != NO_LIGHT {
-            let le = scene.emitted(&hit, wo);
+            let le = scene.emitted(&hit, wo, lambda);
             if le != Rgb::ZERO {
                 let w = if prev_specular {
                     1.0
@@ -108,7 +111,7 @@ pub(super) fn radiance(
                 l += beta * le * (w * mis);
             }
         }
-        let sp = ShadingPoint::new(scene, &hit, wo).in_medium(reached_through);
+        let sp = ShadingPoint::new(scene, &hit, wo, lambda).in_medium(reached_through);
         if !sp.material.is_specular() {
             if out.normal == Vec3::ZERO {
                 // The albedo and normal AOVs: the first diffuse surface on the path.

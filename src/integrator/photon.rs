@@ -33,6 +33,7 @@ use crate::photon::estimate::{self, GatherParams, Kernel, Selection};
 use crate::photon::{MapKind, PhotonMap, PhotonMaps};
 use crate::sampling::Rng;
 use crate::scene::Scene;
+use crate::spectrum::Lambda;
 use std::f32::consts::FRAC_1_PI;
 use std::sync::Arc;
 
@@ -60,6 +61,8 @@ struct Vertex {
     arrival: Option<(Vec3, f32)>,
     /// The medium the path is in.
     medium: Option<MediumId>,
+    /// The path's wavelengths.
+    lambda: Lambda,
 }
 
 /// Render-time parameters of the photon integrator.
@@ -195,6 +198,7 @@ impl PhotonIntegrator {
         &self,
         scene: &Scene,
         ray: &Ray,
+        lambda: &Lambda,
         rng: &mut Rng,
         stats: &mut RayStats,
     ) -> Sample {
@@ -204,6 +208,7 @@ impl PhotonIntegrator {
             first: true,
             arrival: None,
             medium: scene.atmosphere(),
+            lambda: *lambda,
         };
         let mut s = self.trace(scene, ray, start, rng, stats);
         s.indirect *= self.settings.indirect_scale;
@@ -223,7 +228,13 @@ impl PhotonIntegrator {
         let passage = self.through_media(scene, ray, at.medium, rng, stats);
         let mut out = match passage.hit {
             None => Sample {
-                direct: escaped_radiance(light_samples, scene, ray.dir, at.arrival.map(|a| a.1)),
+                direct: escaped_radiance(
+                    light_samples,
+                    scene,
+                    ray.dir,
+                    at.arrival.map(|a| a.1),
+                    &at.lambda,
+                ),
                 ..Sample::default()
             },
             Some(hit) => {
@@ -256,14 +267,23 @@ impl PhotonIntegrator {
         let mut out = Sample::default();
         let light_samples = self.settings.light_samples;
         let wo = -ray.dir;
-        out.direct = scene.emitted(&hit, wo);
+        out.direct = scene.emitted(&hit, wo, &at.lambda);
         if let Some((from, p_bsdf)) = at.arrival
             && out.direct != Rgb::ZERO
         {
             out.direct *= emission_weight(light_samples, scene, from, &hit, p_bsdf);
         }
-        let sp = ShadingPoint::new(scene, &hit, wo).in_medium(at.medium);
+        let mut lambda = at.lambda;
+        let sp = ShadingPoint::new(scene, &hit, wo, &mut lambda).in_medium(at.medium);
+        let at = Vertex { lambda, ..at };
         let m = &sp.material;
+        // The photon maps hold RGB power (see `photon::trace`): a spectral path reads them
+        // with the material in RGB and takes the estimate as an RGB illuminant at its own
+        // wavelengths.
+        let m_rgb = match lambda {
+            Lambda::Rgb => sp.material,
+            Lambda::Sampled { .. } => scene.surface(&hit, wo, &mut Lambda::Rgb).0,
+        };
         let rough = m.has(Part::Rough);
         if rough && (at.first || out.albedo == Rgb::ZERO) {
             out.albedo = m.albedo(sp.wo_local);
@@ -274,28 +294,28 @@ impl PhotonIntegrator {
         }
         if rough {
             let maps = &self.maps;
-            out.caustic = estimate::radiance(
+            out.caustic = lambda.illuminant(estimate::radiance(
                 &maps.caustic,
                 hit.p,
                 sp.ng,
                 &sp.frame,
                 sp.wo_local,
-                m,
+                &m_rgb,
                 &self.settings.caustic,
                 Selection::All,
-            );
+            ));
             out.indirect = match &self.cache {
-                Some(_) => self.final_gather(scene, &sp, rng, stats),
-                None => estimate::radiance(
+                Some(_) => self.final_gather(scene, &sp, &m_rgb, rng, stats),
+                None => lambda.illuminant(estimate::radiance(
                     &maps.global,
                     hit.p,
                     sp.ng,
                     &sp.frame,
                     sp.wo_local,
-                    m,
+                    &m_rgb,
                     &self.settings.global,
                     Selection::Indirect,
-                ),
+                )),
             };
         }
         if m.has(Part::Smooth) && at.depth < self.settings.max_depth {
@@ -350,6 +370,7 @@ impl PhotonIntegrator {
                     first: false,
                     arrival: b.glossy_pdf.map(|p| (sp.hit.p, p)),
                     medium: scene.medium_after(sp.hit, at.medium, wi),
+                    lambda: at.lambda,
                 },
                 rng,
                 stats,
@@ -385,6 +406,7 @@ impl PhotonIntegrator {
         &self,
         scene: &Scene,
         sp: &ShadingPoint,
+        m_rgb: &crate::material::Material,
         rng: &mut Rng,
         stats: &mut RayStats,
     ) -> Rgb {
@@ -414,7 +436,8 @@ impl PhotonIntegrator {
             }
             let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
             let medium = scene.medium_after(sp.hit, sp.medium, wi);
-            sum += weight * self.gathered_radiance(scene, &ray, medium, rng, stats);
+            let gathered = self.gathered_radiance(scene, &ray, medium, rng, stats);
+            sum += weight * sp.lambda.illuminant(gathered);
         };
         // BSDF rays, stratified on a jittered grid when their count is a square (else in u).
         let side = (n_bsdf as f32).sqrt() as u32;
@@ -441,16 +464,16 @@ impl PhotonIntegrator {
             }
         }
         let after_smooth = self.after_smooth.as_ref().map_or(Rgb::ZERO, |map| {
-            estimate::radiance(
+            sp.lambda.illuminant(estimate::radiance(
                 map,
                 sp.hit.p,
                 sp.ng,
                 &sp.frame,
                 sp.wo_local,
-                m,
+                m_rgb,
                 &self.settings.global,
                 Selection::All,
-            )
+            ))
         });
         sum + after_smooth
     }
@@ -458,7 +481,8 @@ impl PhotonIntegrator {
     /// Radiance arriving along a gather ray (which starts in `medium`) from the rough part of
     /// the surface it hits, from the photon maps, and from the media it crosses by the beam
     /// estimate; emission is left out (counted as direct or caustic), and so is the light
-    /// that the surface's smooth part sends (see [`Self::final_gather`]).
+    /// that the surface's smooth part sends (see [`Self::final_gather`]). In RGB, as the maps
+    /// are.
     fn gathered_radiance(
         &self,
         scene: &Scene,
@@ -473,7 +497,7 @@ impl PhotonIntegrator {
             return passage.in_scattered;
         };
         let wo = -ray.dir;
-        let (material, frame) = scene.surface(&hit, wo);
+        let (material, frame) = scene.surface(&hit, wo, &mut Lambda::Rgb);
         if !material.has(Part::Rough) {
             return passage.in_scattered;
         }

@@ -11,6 +11,7 @@ use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
 use crate::medium::{MediumId, spectral_mis};
 use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene};
+use crate::spectrum::Lambda;
 
 /// Where a camera path stopped on a rough surface.
 #[derive(Clone, Copy, Debug)]
@@ -26,6 +27,9 @@ pub struct VisiblePoint {
     pub beta: Rgb,
     /// Length of the path from the camera (for the pixel footprint).
     pub distance: f32,
+    /// Whether a dispersive glass on the way left the path its hero wavelength alone (see
+    /// [`Lambda::keep_hero_only`]).
+    pub hero_only: bool,
 }
 
 /// Where a camera path stopped at a scattering point in a medium.
@@ -64,9 +68,12 @@ pub struct CameraPath {
 /// In a medium a distance is sampled (see [`Scene::next_interaction`]); a path that scatters
 /// there stops at a [`VolumePoint`], with the light arriving there directly: a medium is
 /// rough everywhere, as a diffuse surface is (Knaus and Zwicker 2011 treat media so).
+///
+/// The path carries the channels of `lambda` (a progressive pass's wavelengths).
 pub fn trace_camera_path<S: Sampler>(
     scene: &Scene,
     ray: &Ray,
+    lambda: Lambda,
     max_depth: u32,
     light_samples: u32,
     rng: &mut S,
@@ -85,6 +92,7 @@ pub fn trace_camera_path<S: Sampler>(
     // Spectral MIS in media (see `crate::medium`).
     let hero = scene.draw_hero_channel(rng);
     let mut ratio = Rgb::ONE;
+    let mut lambda = lambda;
     stats.camera += 1;
     for depth in 0..=max_depth {
         let step = scene.next_interaction(&ray, medium, hero, rng);
@@ -95,7 +103,8 @@ pub fn trace_camera_path<S: Sampler>(
         let (hit, reached_through) = match step.interaction {
             Interaction::Escaped => {
                 let w = chain.map_or(beta * mis, |d| d.weight);
-                let sky = escaped_radiance(light_samples, scene, ray.dir, arrival.map(|a| a.1));
+                let sky =
+                    escaped_radiance(light_samples, scene, ray.dir, arrival.map(|a| a.1), &lambda);
                 out.direct += w * sky;
                 return out;
             }
@@ -104,6 +113,7 @@ pub fn trace_camera_path<S: Sampler>(
                     p,
                     wo: -ray.dir,
                     medium,
+                    lambda,
                 };
                 let beta = beta * mis;
                 out.direct += beta * direct_light_in_medium(light_samples, scene, &mp, rng, stats);
@@ -124,14 +134,14 @@ pub fn trace_camera_path<S: Sampler>(
             (hit.p - ray.origin).length()
         };
         let wo = -ray.dir;
-        let mut le = scene.emitted(&hit, wo);
+        let mut le = scene.emitted(&hit, wo, &lambda);
         if let Some((from, p_bsdf)) = arrival
             && le != Rgb::ZERO
         {
             le *= emission_weight(light_samples, scene, from, &hit, p_bsdf);
         }
         out.direct += chain.map_or(beta * mis, |d| d.weight) * le;
-        let sp = ShadingPoint::new(scene, &hit, wo).in_medium(reached_through);
+        let sp = ShadingPoint::new(scene, &hit, wo, &mut lambda).in_medium(reached_through);
         let m = &sp.material;
         let may_go_on = depth < max_depth;
         // Only the delta branches of the first bounces are summed; deeper ones are sampled.
@@ -159,6 +169,7 @@ pub fn trace_camera_path<S: Sampler>(
                 material: sp.material,
                 beta: beta * mis / stop,
                 distance,
+                hero_only: lambda.is_hero_only(),
             });
             return out;
         }
@@ -280,10 +291,11 @@ fn branch_emission(
     let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
     walk.stats.bounce += 1;
     let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-        return weight * scene.escaped(wi);
+        return weight * scene.escaped(wi, &sp.lambda);
     };
-    let next = ShadingPoint::new(scene, &hit, -wi);
-    let mut l = scene.emitted(&hit, -wi);
+    let mut lambda = sp.lambda;
+    let next = ShadingPoint::new(scene, &hit, -wi, &mut lambda);
+    let mut l = scene.emitted(&hit, -wi, &sp.lambda);
     let m = &next.material;
     if depth < walk.max_depth && m.lobes().is_specular() {
         let leaving = smooth_branches(&next, Part::Smooth, depth, SPLIT_DEPTH, &mut *walk.rng);

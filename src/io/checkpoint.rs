@@ -39,6 +39,8 @@ struct Header {
     initial_radius: Option<f32>,
     max_depth: u32,
     light_samples: u32,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    spectral: bool,
     scene: String,
     scene_hash: String,
     first_pass: u64,
@@ -114,6 +116,7 @@ pub fn save_with(state: &ProgressiveState, info: &RunInfo, path: &Path) -> Resul
         initial_radius: c.initial_radius,
         max_depth: c.max_depth,
         light_samples: c.light_samples,
+        spectral: c.spectral,
         scene: state.scene_name.clone(),
         scene_hash: format!("{:016x}", state.scene_hash),
         first_pass: state.first_pass,
@@ -202,6 +205,7 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
         initial_radius: hd.initial_radius,
         max_depth: hd.max_depth,
         light_samples: hd.light_samples,
+        spectral: hd.spectral,
     };
     config.validate().map_err(|e| e.to_string())?;
     let info = RunInfo {

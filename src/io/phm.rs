@@ -45,6 +45,9 @@ struct Header {
     max_depth: u32,
     absorption: Option<f32>,
     per_channel: bool,
+    /// Traced with spectral photons (stored, as all photons are, with RGB power).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    spectral: bool,
     seed: u64,
     emitted: u64,
     global_emitted: u64,
@@ -79,6 +82,7 @@ pub fn save(maps: &PhotonMaps, path: &Path) -> Result<()> {
         max_depth: maps.config.max_depth,
         absorption: maps.config.absorption,
         per_channel: maps.config.per_channel,
+        spectral: maps.config.spectral,
         seed: maps.config.seed,
         emitted: maps.stats.emitted,
         global_emitted: maps.stats.global_emitted,
@@ -149,6 +153,7 @@ fn decode(bytes: &[u8]) -> std::result::Result<PhotonMaps, String> {
             max_depth: header.max_depth,
             absorption: header.absorption,
             per_channel: header.per_channel,
+            spectral: header.spectral,
             seed: header.seed,
         },
         caustic: PhotonMap::from_tree_order(MapKind::Caustic, caustic, header.caustic_power_scale),

@@ -2,6 +2,7 @@ use super::{LightSample, PhotonEmission};
 use crate::geometry::{Bounds, Shape, ShapeHit};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::{Distribution1D, cosine_hemisphere};
+use crate::spectrum::{Lambda, Spectrum};
 use crate::texture::{ImageTexture, UvMapping};
 use std::f32::consts::PI;
 use std::sync::Arc;
@@ -12,7 +13,7 @@ use std::sync::Arc;
 #[derive(Clone, Debug)]
 pub struct AreaLight {
     pub shapes: Vec<Shape>,
-    pub radiance: Rgb,
+    pub radiance: Spectrum,
     pub two_sided: bool,
     area: f32,
     by_area: Distribution1D,
@@ -41,7 +42,7 @@ struct EmissionTexture {
 
 impl AreaLight {
     /// `None` if the shapes have no area.
-    pub fn new(shapes: Vec<Shape>, radiance: Rgb, two_sided: bool) -> Option<Self> {
+    pub fn new(shapes: Vec<Shape>, radiance: Spectrum, two_sided: bool) -> Option<Self> {
         let areas: Vec<f64> = shapes.iter().map(|s| f64::from(s.area())).collect();
         let by_area = Distribution1D::new(&areas)?;
         let bounds = shapes
@@ -118,12 +119,25 @@ impl AreaLight {
 
     /// Radiance leaving a point with normal `n` and texture coordinates `uv` (of the set
     /// [`AreaLight::texture_uv_set`] names) in direction `w`.
-    pub fn emitted_at(&self, n: Vec3, w: Vec3, uv: Vec2) -> Rgb {
-        let l = self.emitted(n, w);
+    pub fn emitted_at(&self, n: Vec3, w: Vec3, uv: Vec2, lambda: &Lambda) -> Rgb {
         match &self.texture {
-            Some(t) if l != Rgb::ZERO => l * t.read(uv),
-            _ => l,
+            Some(t) if self.faces(n, w) => self.radiance_times(t.read(uv), lambda),
+            _ => self.emitted(n, w, lambda),
         }
+    }
+
+    /// The radiance times the texture's `factor` (1 untextured) at the path's channels: the
+    /// light's own spectrum untextured, a texel's colour upsampled as an illuminant.
+    fn radiance_times(&self, factor: Rgb, lambda: &Lambda) -> Rgb {
+        match self.texture {
+            None => lambda.spectrum(&self.radiance),
+            Some(_) => lambda.illuminant(self.radiance.rgb() * factor),
+        }
+    }
+
+    /// Whether the light emits from a point with normal `n` toward `w`.
+    fn faces(&self, n: Vec3, w: Vec3) -> bool {
+        self.two_sided || n.dot(w) > 0.0
     }
 
     /// Whether `p` is close enough for sampling the light alone to have unbounded variance
@@ -143,15 +157,15 @@ impl AreaLight {
     pub fn power(&self) -> Rgb {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         match &self.texture {
-            Some(t) => self.radiance * t.power * (PI * sides),
-            None => self.radiance * (PI * self.area * sides),
+            Some(t) => self.radiance.rgb() * t.power * (PI * sides),
+            None => self.radiance.rgb() * (PI * self.area * sides),
         }
     }
 
     /// Radiance leaving a point with normal `n` in direction `w`.
-    pub fn emitted(&self, n: Vec3, w: Vec3) -> Rgb {
-        if self.two_sided || n.dot(w) > 0.0 {
-            self.radiance
+    pub fn emitted(&self, n: Vec3, w: Vec3, lambda: &Lambda) -> Rgb {
+        if self.faces(n, w) {
+            lambda.spectrum(&self.radiance)
         } else {
             Rgb::ZERO
         }
@@ -161,7 +175,13 @@ impl AreaLight {
     /// the emitting side, or on a side chosen at random for two-sided lights: every photon
     /// carries flux L·cos θ / (cos θ/π · 1/A) = π A L (L at its point), times two for
     /// two-sided lights.
-    pub fn emit(&self, u_pick: f32, u_pos: Vec2, u_dir: Vec2) -> Option<PhotonEmission> {
+    pub fn emit(
+        &self,
+        u_pick: f32,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        lambda: &Lambda,
+    ) -> Option<PhotonEmission> {
         let (i, rest) = self.by_area.sample(u_pick);
         let s = self.shapes[i].sample_area(u_pos);
         let (normal, sides) = if self.two_sided {
@@ -177,12 +197,13 @@ impl AreaLight {
             origin: s.p,
             dir: Frame::from_normal(normal).to_world(local),
             normal: s.n,
-            flux: self.radiance * self.factor(i, s.p) * (std::f32::consts::PI * self.area * sides),
+            flux: self.radiance_times(self.factor(i, s.p), lambda)
+                * (std::f32::consts::PI * self.area * sides),
         })
     }
 
     /// Uniform point on the light's area, then converted to a solid-angle density at `p`.
-    pub fn sample_li(&self, p: Vec3, u_pick: f32, u: Vec2) -> Option<LightSample> {
+    pub fn sample_li(&self, p: Vec3, u_pick: f32, u: Vec2, lambda: &Lambda) -> Option<LightSample> {
         let (i, _) = self.by_area.sample(u_pick);
         let s = self.shapes[i].sample_area(u);
         let d = s.p - p;
@@ -191,7 +212,10 @@ impl AreaLight {
             return None;
         }
         let wi = d / dist2.sqrt();
-        let radiance = self.emitted(s.n, -wi) * self.factor(i, s.p);
+        if !self.faces(s.n, -wi) {
+            return None;
+        }
+        let radiance = self.radiance_times(self.factor(i, s.p), lambda);
         if radiance == Rgb::ZERO {
             return None;
         }

@@ -1,5 +1,6 @@
 use super::{Aperture, LightSample, PhotonEmission};
 use crate::math::{Rgb, Vec2, Vec3};
+use crate::spectrum::{Lambda, Spectrum};
 
 /// Light arriving from one direction (the sun): `irradiance` (W/m² per channel) on a surface
 /// facing it. Its power is that irradiance over the disk the scene's bounding sphere casts,
@@ -9,13 +10,13 @@ use crate::math::{Rgb, Vec2, Vec3};
 pub struct DirectionalLight {
     /// Unit direction the light travels in.
     pub direction: Vec3,
-    pub irradiance: Rgb,
+    pub irradiance: Spectrum,
     /// Where its photons enter the scene (set at build).
     pub aperture: Aperture,
 }
 
 impl DirectionalLight {
-    pub fn new(direction: Vec3, irradiance: Rgb) -> Self {
+    pub fn new(direction: Vec3, irradiance: Spectrum) -> Self {
         Self {
             direction: direction.normalize_or(-Vec3::Z),
             irradiance,
@@ -24,27 +25,27 @@ impl DirectionalLight {
     }
 
     pub fn power(&self) -> Rgb {
-        self.irradiance * self.aperture.area()
+        self.irradiance.rgb() * self.aperture.area()
     }
 
     /// A photon entering through the aperture (see [`Aperture`]): flux E / density, which is
     /// the whole power E·πr² for the scene's own disc.
-    pub fn emit(&self, u_pick: f32, u: Vec2) -> Option<PhotonEmission> {
+    pub fn emit(&self, u_pick: f32, u: Vec2, lambda: &Lambda) -> Option<PhotonEmission> {
         let (origin, density) = self.aperture.sample(self.direction, u_pick, u)?;
         Some(PhotonEmission {
             origin,
             dir: self.direction,
             normal: Vec3::ZERO,
-            flux: self.irradiance / density,
+            flux: lambda.spectrum(&self.irradiance) / density,
         })
     }
 
     /// The direction toward the light; the shadow ray ends outside the scene's sphere.
-    pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
+    pub fn sample_li(&self, p: Vec3, lambda: &Lambda) -> Option<LightSample> {
         let wi = -self.direction;
         Some(LightSample {
             wi,
-            radiance: self.irradiance,
+            radiance: lambda.spectrum(&self.irradiance),
             pdf: 1.0,
             point: p + wi * (2.0 * self.aperture.radius + (p - self.aperture.center).length()),
             normal: Vec3::ZERO,

@@ -14,6 +14,7 @@
 use super::{Aperture, LightSample, PhotonEmission};
 use crate::math::{Rgb, Vec2, Vec3, luminance};
 use crate::sampling::{Distribution2D, uniform_sphere};
+use crate::spectrum::Lambda;
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -107,8 +108,13 @@ impl EnvironmentLight {
         Vec3::new(sin_theta * phi.sin(), theta.cos(), -sin_theta * phi.cos())
     }
 
-    /// Radiance arriving from direction `d` (unit, pointing toward the sky).
-    pub fn radiance(&self, d: Vec3) -> Rgb {
+    /// Radiance arriving from direction `d` (unit, pointing toward the sky) at the channels of
+    /// `lambda` (an RGB sky's colour upsampled as an illuminant in spectral rendering).
+    pub fn radiance(&self, d: Vec3, lambda: &Lambda) -> Rgb {
+        lambda.illuminant(self.radiance_rgb(d))
+    }
+
+    fn radiance_rgb(&self, d: Vec3) -> Rgb {
         let Some(map) = &self.map else {
             return self.scale;
         };
@@ -178,12 +184,12 @@ impl EnvironmentLight {
     }
 
     /// A direction toward the sky from `p`; the shadow ray ends outside the scene's sphere.
-    pub fn sample_li(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
+    pub fn sample_li(&self, p: Vec3, u: Vec2, lambda: &Lambda) -> Option<LightSample> {
         let (wi, pdf) = self.sample_direction(u)?;
         let far = 2.0 * self.aperture.radius + (p - self.aperture.center).length();
         Some(LightSample {
             wi,
-            radiance: self.radiance(wi),
+            radiance: self.radiance(wi, lambda),
             pdf,
             point: p + wi * far.max(1.0),
             normal: Vec3::ZERO,
@@ -193,14 +199,20 @@ impl EnvironmentLight {
 
     /// A photon arriving from a sampled direction through the aperture (see [`Aperture`]):
     /// flux L / (pdf(ω) · density of its line), which is L · π r² / pdf(ω) for the scene's disc.
-    pub fn emit(&self, u_pick: f32, u_pos: Vec2, u_dir: Vec2) -> Option<PhotonEmission> {
+    pub fn emit(
+        &self,
+        u_pick: f32,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        lambda: &Lambda,
+    ) -> Option<PhotonEmission> {
         let (toward_sky, pdf) = self.sample_direction(u_dir)?;
         let (origin, density) = self.aperture.sample(-toward_sky, u_pick, u_pos)?;
         Some(PhotonEmission {
             origin,
             dir: -toward_sky,
             normal: Vec3::ZERO,
-            flux: self.radiance(toward_sky) / (pdf * density),
+            flux: self.radiance(toward_sky, lambda) / (pdf * density),
         })
     }
 }

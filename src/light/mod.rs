@@ -17,6 +17,7 @@ pub use point::PointLight;
 pub use spot::SpotLight;
 
 use crate::math::{Rgb, Vec2, Vec3};
+use crate::spectrum::Lambda;
 
 /// A light sampled from a shading point.
 #[derive(Clone, Copy, Debug)]
@@ -69,25 +70,33 @@ impl Light {
         }
     }
 
-    /// Sample a direction toward the light from `p`.
-    pub fn sample_li(&self, p: Vec3, u_pick: f32, u: Vec2) -> Option<LightSample> {
+    /// Sample a direction toward the light from `p`; the radiance is at the channels of
+    /// `lambda`.
+    pub fn sample_li(&self, p: Vec3, u_pick: f32, u: Vec2, lambda: &Lambda) -> Option<LightSample> {
         match self {
-            Light::Point(l) => l.sample_li(p),
-            Light::Spot(l) => l.sample_li(p),
-            Light::Directional(l) => l.sample_li(p),
-            Light::Area(l) => l.sample_li(p, u_pick, u),
-            Light::Environment(l) => l.sample_li(p, u),
+            Light::Point(l) => l.sample_li(p, lambda),
+            Light::Spot(l) => l.sample_li(p, lambda),
+            Light::Directional(l) => l.sample_li(p, lambda),
+            Light::Area(l) => l.sample_li(p, u_pick, u, lambda),
+            Light::Environment(l) => l.sample_li(p, u, lambda),
         }
     }
 
-    /// Emit one photon; `u_pick` chooses a shape, `u_pos` a point, `u_dir` a direction.
-    pub fn emit(&self, u_pick: f32, u_pos: Vec2, u_dir: Vec2) -> Option<PhotonEmission> {
+    /// Emit one photon; `u_pick` chooses a shape, `u_pos` a point, `u_dir` a direction. Its
+    /// flux is at the channels of `lambda`.
+    pub fn emit(
+        &self,
+        u_pick: f32,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        lambda: &Lambda,
+    ) -> Option<PhotonEmission> {
         match self {
-            Light::Point(l) => Some(l.emit(u_dir)),
-            Light::Spot(l) => l.emit(u_dir),
-            Light::Directional(l) => l.emit(u_pick, u_pos),
-            Light::Area(l) => l.emit(u_pick, u_pos, u_dir),
-            Light::Environment(l) => l.emit(u_pick, u_pos, u_dir),
+            Light::Point(l) => Some(l.emit(u_dir, lambda)),
+            Light::Spot(l) => l.emit(u_dir, lambda),
+            Light::Directional(l) => l.emit(u_pick, u_pos, lambda),
+            Light::Area(l) => l.emit(u_pick, u_pos, u_dir, lambda),
+            Light::Environment(l) => l.emit(u_pick, u_pos, u_dir, lambda),
         }
     }
 

@@ -2,6 +2,7 @@ use super::{LightSample, PhotonEmission};
 use crate::math::{Frame, Vec2};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::{uniform_cone, uniform_cone_pdf};
+use crate::spectrum::{Lambda, Spectrum};
 use std::f32::consts::PI;
 
 /// Spot light: intensity `intensity` (W/sr) along `direction`, full inside the cone of
@@ -10,7 +11,7 @@ use std::f32::consts::PI;
 pub struct SpotLight {
     pub position: Vec3,
     pub direction: Vec3,
-    pub intensity: Rgb,
+    pub intensity: Spectrum,
     pub cos_cutoff: f32,
     pub cos_falloff_start: f32,
 }
@@ -28,7 +29,7 @@ impl SpotLight {
     pub fn new(
         position: Vec3,
         direction: Vec3,
-        intensity: Rgb,
+        intensity: Spectrum,
         half_angle_deg: f32,
         falloff_deg: f32,
     ) -> Self {
@@ -55,7 +56,7 @@ impl SpotLight {
     /// Φ = 2π I [(1 − cos θ_start) + (cos θ_start − cos θ_cutoff)/2]: the smoothstep ramp in
     /// cos θ integrates to exactly half its width, since smoothstep(x) + smoothstep(1−x) = 1.
     pub fn power(&self) -> Rgb {
-        self.intensity
+        self.intensity.rgb()
             * (2.0
                 * PI
                 * ((1.0 - self.cos_falloff_start)
@@ -64,7 +65,7 @@ impl SpotLight {
 
     /// Uniform direction inside the cutoff cone (the original project's cone sampling, with
     /// spread s = (1 − cos θ_cutoff)/2), flux I(ω)/pdf so the smooth edge is weighted in.
-    pub fn emit(&self, u: Vec2) -> Option<PhotonEmission> {
+    pub fn emit(&self, u: Vec2, lambda: &Lambda) -> Option<PhotonEmission> {
         let local = uniform_cone(u, self.cos_cutoff);
         let dir = Frame::from_normal(self.direction).to_world(local);
         let k = self.falloff(dir);
@@ -72,11 +73,11 @@ impl SpotLight {
             origin: self.position,
             dir,
             normal: Vec3::ZERO,
-            flux: self.intensity * (k / uniform_cone_pdf(self.cos_cutoff)),
+            flux: lambda.spectrum(&self.intensity) * (k / uniform_cone_pdf(self.cos_cutoff)),
         })
     }
 
-    pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
+    pub fn sample_li(&self, p: Vec3, lambda: &Lambda) -> Option<LightSample> {
         let d = self.position - p;
         let dist2 = d.length_squared();
         if dist2 == 0.0 {
@@ -86,7 +87,7 @@ impl SpotLight {
         let k = self.falloff(-wi);
         (k > 0.0).then_some(LightSample {
             wi,
-            radiance: self.intensity * (k / dist2),
+            radiance: lambda.spectrum(&self.intensity) * (k / dist2),
             pdf: 1.0,
             point: self.position,
             normal: Vec3::ZERO,

@@ -12,6 +12,7 @@
 
 mod conductor;
 mod dielectric;
+mod dispersion;
 mod lambertian;
 pub mod microfacet;
 mod mirror;
@@ -20,12 +21,14 @@ mod rough_dielectric;
 
 pub use conductor::{Conductor, ConductorFresnel, Metal, fresnel_conductor};
 pub use dielectric::{Dielectric, fresnel_dielectric};
+pub use dispersion::{Dispersion, LINE_C_NM, LINE_D_NM, LINE_F_NM};
 pub use lambertian::Lambertian;
 pub use mirror::Mirror;
 pub use pbr::Pbr;
 pub use rough_dielectric::RoughDielectric;
 
 use crate::math::{Rgb, Vec2, Vec3, luminance};
+use crate::spectrum::Lambda;
 use microfacet::Ggx;
 
 /// Glossy lobes narrower than this GGX α are *near-specular*: camera paths continue through
@@ -55,13 +58,14 @@ pub struct Attenuation {
 }
 
 impl Attenuation {
-    /// The fraction of each channel left after travelling `length` inside.
+    /// The fraction of each channel of a path of `lambda` left after travelling `length`
+    /// inside.
     #[inline]
-    pub fn transmittance(&self, length: f32) -> Rgb {
+    pub fn transmittance(&self, length: f32, lambda: &Lambda) -> Rgb {
         // `powf`: 0^0 = 1 keeps a zero-length segment clear even in a black channel, where
         // exp(−∞ · 0) would be NaN.
         let x = length.max(0.0) / self.distance;
-        let c = self.color;
+        let c = lambda.reflectance(self.color);
         Rgb::new(c.x.powf(x), c.y.powf(x), c.z.powf(x))
     }
 }
@@ -271,6 +275,60 @@ impl Material {
             | Material::Mirror(_)
             | Material::Conductor(_)
             | Material::Pbr(_) => self,
+        }
+    }
+
+    /// The material as a path of `lambda` sees it: in spectral rendering every colour is
+    /// upsampled to the path's wavelengths (albedos and tints as reflectances, a conductor's
+    /// η and k without bound), and a glass whose index follows `dispersion` takes the index at
+    /// the hero wavelength and ends the others ([`Lambda::keep_hero_only`], its factor on both
+    /// branches: the directions it refracts into hold for the hero alone). RGB paths get it
+    /// unchanged: a dispersive glass's `ior` is its index at the d line.
+    pub fn at(self, lambda: &mut Lambda, dispersion: Dispersion) -> Material {
+        if !lambda.is_spectral() {
+            return self;
+        }
+        let refract_at = |lambda: &mut Lambda, ior: &mut f32, weight: &mut Rgb| {
+            if let Some(n) = lambda.hero().and_then(|l| dispersion.ior(l)) {
+                *ior = n;
+                *weight *= lambda.keep_hero_only();
+            }
+        };
+        match self {
+            Material::Lambertian(mut m) => {
+                m.albedo = lambda.reflectance(m.albedo);
+                Material::Lambertian(m)
+            }
+            Material::Mirror(mut m) => {
+                m.reflectance = lambda.reflectance(m.reflectance);
+                Material::Mirror(m)
+            }
+            Material::Dielectric(mut m) => {
+                m.transmittance = lambda.reflectance(m.transmittance);
+                refract_at(lambda, &mut m.ior, &mut m.segment);
+                Material::Dielectric(m)
+            }
+            Material::RoughDielectric(mut m) => {
+                m.transmittance = lambda.reflectance(m.transmittance);
+                refract_at(lambda, &mut m.ior, &mut m.segment);
+                Material::RoughDielectric(m)
+            }
+            Material::Conductor(mut m) => {
+                m.fresnel = match m.fresnel {
+                    ConductorFresnel::Complex { eta, k } => ConductorFresnel::Complex {
+                        eta: lambda.unbounded(eta),
+                        k: lambda.unbounded(k),
+                    },
+                    ConductorFresnel::Schlick { f0 } => ConductorFresnel::Schlick {
+                        f0: lambda.reflectance(f0),
+                    },
+                };
+                Material::Conductor(m)
+            }
+            Material::Pbr(mut m) => {
+                m.base_color = lambda.reflectance(m.base_color);
+                Material::Pbr(m)
+            }
         }
     }
 

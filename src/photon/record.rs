@@ -87,8 +87,11 @@ pub struct PassPhoton {
     pub normal: Vec3,
     /// Unit direction toward where the photon came from.
     pub incoming: Vec3,
-    /// Power relative to the pass's scale.
+    /// Power relative to the pass's scale, at the pass's channels.
     pub power: Rgb,
+    /// Whether a dispersive glass left the photon its hero wavelength alone (see
+    /// [`crate::spectrum::Lambda::keep_hero_only`]).
+    pub hero_only: bool,
 }
 
 impl super::grid::Located for PassPhoton {

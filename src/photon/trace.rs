@@ -10,6 +10,7 @@ use crate::medium::{MediumId, spectral_mis};
 use crate::sampling::halton::ShiftedHalton;
 use crate::sampling::{Distribution1D, Rng};
 use crate::scene::{Interaction, Scene};
+use crate::spectrum::Lambda;
 use rayon::prelude::*;
 
 /// Parameters of one photon trace.
@@ -29,6 +30,9 @@ pub struct PhotonConfig {
     /// Three single-channel traces, each bouncing with that channel's reflectance, as the
     /// original project did; otherwise every photon carries RGB power.
     pub per_channel: bool,
+    /// Spectral photons: each path carries three wavelengths of its own (one after a
+    /// dispersive glass) and is stored with the RGB colour of its power.
+    pub spectral: bool,
     pub seed: u64,
 }
 
@@ -40,6 +44,7 @@ impl Default for PhotonConfig {
             max_depth: 64,
             absorption: None,
             per_channel: false,
+            spectral: false,
             seed: 0,
         }
     }
@@ -70,6 +75,11 @@ impl PhotonConfig {
                 "maximum depth {} must be in 1..=255",
                 self.max_depth
             ));
+        }
+        if self.per_channel && self.spectral {
+            return bad(
+                "per-channel photons are an RGB mode (one trace per channel); spectral photons carry wavelengths of their own".into(),
+            );
         }
         if let Some(p) = self.absorption
             && !(0.0..1.0).contains(&p)
@@ -139,13 +149,16 @@ pub struct PassPhotons {
     pub scale: f32,
 }
 
-/// Trace `photons` RGB photon paths with the random streams of [`trace_photons`] (photon `i`
-/// keyed by (seed, 0, i)) and keep what a progressive pass gathers ([`PassPhotons`]).
+/// Trace `photons` photon paths with the random streams of [`trace_photons`] (photon `i`
+/// keyed by (seed, 0, i)) and keep what a progressive pass gathers ([`PassPhotons`]). Every
+/// path carries the channels of `lambda` (a pass's wavelengths in spectral rendering), and
+/// so do the photons' powers.
 pub fn trace_indirect_photons(
     scene: &Scene,
     photons: u64,
     seed: u64,
     max_depth: u32,
+    lambda: Lambda,
 ) -> Result<PassPhotons> {
     let total_max = scene.total_power().max_element();
     let choice = light_choice(scene, Channel::Rgb).filter(|_| total_max > 0.0);
@@ -167,7 +180,7 @@ pub fn trace_indirect_photons(
             let (mut surface, mut volume) = (Vec::new(), Vec::new());
             for i in k * CHUNK..((k + 1) * CHUNK).min(photons) {
                 let mut rng = Rng::keyed(seed, &[0, i]);
-                trace_path(&ctx, emission.point(i), &mut rng, &mut |v| {
+                trace_path(&ctx, emission.point(i), lambda, &mut rng, &mut |v| {
                     if v.depth <= 1 {
                         return;
                     }
@@ -178,6 +191,7 @@ pub fn trace_indirect_photons(
                             normal: v.n,
                             incoming: v.wo,
                             power: v.power,
+                            hero_only: v.lambda.is_hero_only(),
                         }),
                     }
                 });
@@ -284,7 +298,8 @@ pub fn trace_photons(
                     let mut rng = Rng::keyed(config.seed, &[ci as u64, i]);
                     let store_global = i < global_photons;
                     let emission = random_emission(&mut rng);
-                    trace_path(&ctx, emission, &mut rng, &mut |v| match v.medium {
+                    let lambda = Lambda::draw(config.spectral, &mut rng);
+                    trace_path(&ctx, emission, lambda, &mut rng, &mut |v| match v.medium {
                         None => store(v, channel, store_global, &mut out),
                         Some(m) if store_global => out.volume.push(volume_photon(scene, v, m)),
                         Some(_) => {}
@@ -348,6 +363,8 @@ struct PathVertex {
     smooth_last: bool,
     /// The medium of a scattering point in a medium (then `n` is zero); `None` on surfaces.
     medium: Option<MediumId>,
+    /// The path's wavelengths at this point (`power` is at them).
+    lambda: Lambda,
 }
 
 /// The largest probability with which a photon goes on after scattering in a medium (the
@@ -392,6 +409,7 @@ fn volume_photon(scene: &Scene, v: &PathVertex, medium: MediumId) -> VolumePhoto
 fn trace_path(
     ctx: &PathContext,
     emission: [f32; 6],
+    lambda: Lambda,
     rng: &mut Rng,
     visit: &mut impl FnMut(&PathVertex),
 ) {
@@ -400,7 +418,8 @@ fn trace_path(
     let (light_index, _) = ctx.choice.sample(u_light);
     let pmf = ctx.choice.pmf(light_index);
     let (u_pos, u_dir) = (Vec2::new(u_pos_x, u_pos_y), Vec2::new(u_dir_x, u_dir_y));
-    let Some(e) = scene.lights()[light_index].emit(u_pick, u_pos, u_dir) else {
+    let mut lambda = lambda;
+    let Some(e) = scene.lights()[light_index].emit(u_pick, u_pos, u_dir, &lambda) else {
         return;
     };
     // The photon carries Φ_light / (pmf · N); stored relative to Φ_max / N.
@@ -447,6 +466,7 @@ fn trace_path(
                     specular_only,
                     smooth_last,
                     medium: Some(m),
+                    lambda,
                 });
                 // The free flight's weight (σs·Tr over its density) is in `power`; the
                 // photon goes on with the probability of its largest channel's share, at most
@@ -468,7 +488,7 @@ fn trace_path(
             Interaction::Surface { hit, medium } => (hit, medium),
         };
         let wo = -ray.dir;
-        let (material, frame) = scene.surface(&hit, wo);
+        let (material, frame) = scene.surface(&hit, wo, &mut lambda);
         let ng = hit.ng_facing(wo);
         let arrival = ShadingCosines::new(wo, ng, frame.n);
         if material.has(Part::Rough) {
@@ -481,6 +501,7 @@ fn trace_path(
                 specular_only,
                 smooth_last,
                 medium: None,
+                lambda,
             });
         }
         if depth == ctx.max_depth {
@@ -567,8 +588,10 @@ impl ShadingCosines {
 }
 
 /// Store a path's photons: caustic (L S+ D) or, for the first `global_photons` paths, global.
+/// A spectral photon is stored with the RGB colour of its power.
 fn store(v: &PathVertex, channel: Channel, store_global: bool, out: &mut ChunkOut) {
-    let photon = Photon::new(v.p, v.n, v.wo, v.power, v.depth, channel)
+    let power = v.lambda.to_rgb(v.power);
+    let photon = Photon::new(v.p, v.n, v.wo, power, v.depth, channel)
         .with_smooth_last_scattering(v.smooth_last);
     if v.depth > 1 && v.specular_only {
         out.caustic.push(photon);

@@ -11,6 +11,7 @@ use crate::photon::{PassPhoton, VolumePhoton, trace_indirect_photons};
 use crate::sampling::halton::{PassJitter, Prefixed};
 use crate::sampling::{Rng, mix64};
 use crate::scene::Scene;
+use crate::spectrum::{Lambda, Wavelengths};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -59,6 +60,9 @@ pub struct ProgressiveConfig {
     pub initial_radius: Option<f32>,
     pub max_depth: u32,
     pub light_samples: u32,
+    /// Spectral rendering: each pass's camera paths and photons share three wavelengths
+    /// (hero-wavelength sampling; the hero stratified over passes), as pbrt-v4's SPPM does.
+    pub spectral: bool,
 }
 
 impl ProgressiveConfig {
@@ -217,6 +221,10 @@ impl ProgressiveState {
                     .unwrap_or(c.method.footprint_pixels() * footprint * distance)
         };
         let jitter = PassJitter::new(c.seed, pass);
+        let lambda = match c.spectral {
+            true => Lambda::sampled(Wavelengths::sample_visible(jitter.wavelength())),
+            false => Lambda::Rgb,
+        };
         let stopped = || cancel.load(Ordering::Relaxed);
         let start = Instant::now();
         // 1. Every pixel's camera path: its direct light and visible point.
@@ -233,6 +241,7 @@ impl ProgressiveState {
             let path = trace_camera_path(
                 scene,
                 &ray,
+                lambda,
                 c.max_depth,
                 c.light_samples,
                 &mut sampler,
@@ -263,12 +272,15 @@ impl ProgressiveState {
         let camera_done = start.elapsed();
         // 2 and 3. The pass's photons, and each visible point's gather.
         let (photons_stored, photons_done) =
-            photons_and_gather(scene, &c, pass, &mut slots, &stopped, start)?;
+            photons_and_gather(scene, &c, pass, lambda, &mut slots, &stopped, start)?;
         if stopped() {
             self.buffers.points = slots;
             return Err(Error::Cancelled);
         }
-        // 4. Each pixel takes its direct light and its gather.
+        // 4. Each pixel takes its direct light and its gather (in RGB).
+        if lambda.is_spectral() {
+            slots_to_rgb(&mut slots, &lambda);
+        }
         self.apply(&slots, &initial_r);
         self.buffers.points = slots;
         self.passes += 1;
@@ -456,6 +468,7 @@ fn photons_and_gather(
     scene: &Scene,
     c: &ProgressiveConfig,
     pass: u64,
+    lambda: Lambda,
     slots: &mut [PassSlot],
     stopped: &(impl Fn() -> bool + Sync),
     start: Instant,
@@ -464,7 +477,8 @@ fn photons_and_gather(
         return Ok((0, start.elapsed()));
     }
     let seed = mix64(c.seed ^ mix64(pass.wrapping_add(0x5eed)));
-    let photons = trace_indirect_photons(scene, c.photons_per_pass, seed, PHOTON_MAX_DEPTH)?;
+    let photons =
+        trace_indirect_photons(scene, c.photons_per_pass, seed, PHOTON_MAX_DEPTH, lambda)?;
     if stopped() {
         return Ok((0, start.elapsed()));
     }
@@ -613,14 +627,31 @@ fn photon_flux(
         ) && m <= r2
         {
             let wi = vp.frame.to_local(ph.incoming);
-            sum += vp
+            let f = vp
                 .material
-                .eval_part(vp.wo_local, wi, TransportMode::Radiance, Part::Rough)
-                * ph.power;
+                .eval_part(vp.wo_local, wi, TransportMode::Radiance, Part::Rough);
+            // Both sides hero-only: the path's hero was tripled twice, once too many (see
+            // `Lambda::keep_hero_only`).
+            let once = if vp.hero_only && ph.hero_only {
+                1.0 / 3.0
+            } else {
+                1.0
+            };
+            sum += f * ph.power * once;
             count += 1;
         }
     });
     (sum, count)
+}
+
+/// The pass's light at its wavelengths, as RGB: every slot's direct light and gathered
+/// flux (a linear map, so sums of the pass's values convert as wholes).
+fn slots_to_rgb(slots: &mut [PassSlot], lambda: &Lambda) {
+    slots.par_iter_mut().for_each(|slot| {
+        slot.direct = lambda.to_rgb(slot.direct);
+        let phi = Rgb::from_array(slot.phi.map(|x| x as f32));
+        slot.phi = lambda.to_rgb(phi).to_array().map(f64::from);
+    });
 }
 
 /// A volume point's first ball is this many times the radius a surface point starts with.

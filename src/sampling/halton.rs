@@ -76,6 +76,7 @@ fn radical_inverse_any(base: u64, mut i: u64) -> f64 {
 pub struct PassJitter {
     point: [f32; 5],
     seed: u64,
+    pass: u64,
 }
 
 impl PassJitter {
@@ -89,6 +90,7 @@ impl PassJitter {
                 radical_inverse_in::<11>(pass) as f32,
             ],
             seed: super::mix64(seed ^ 0x0A55_1E7E_D5EE_D000),
+            pass,
         }
     }
 
@@ -98,6 +100,13 @@ impl PassJitter {
         // Two 24-bit offsets: exact in f32.
         let shift = [bits >> 40, (bits >> 16) & 0xFF_FFFF].map(|b| b as f32 / 16_777_216.0);
         std::array::from_fn(|d| shifted(self.point[d], shift[d]))
+    }
+
+    /// The pass's hero wavelength as a number in [0, 1): base 13, shifted by the seed, so the
+    /// passes' wavelengths are stratified (spectral rendering).
+    pub fn wavelength(&self) -> f32 {
+        let shift = (super::mix64(self.seed ^ 0x1A3B_DA5E) >> 40) as f32 / 16_777_216.0;
+        shifted(radical_inverse_in::<13>(self.pass) as f32, shift)
     }
 
     /// The first three random numbers of the pixel's camera path in this pass: on a diffuse

@@ -4,10 +4,11 @@ use crate::camera::{Camera, CameraDesc};
 use crate::error::{Error, Result};
 use crate::geometry::{Disk, Shape, Sphere, Triangle};
 use crate::light::{AreaLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
-use crate::material::{Attenuation, Material};
+use crate::material::{Attenuation, Dispersion, Material};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::medium::{Boundary, Medium, MediumId};
 use crate::sampling::Distribution1D;
+use crate::spectrum::Spectrum;
 use crate::texture::{MappedTexture, Texture, UvMapping};
 use glam::Affine3A;
 use std::sync::Arc;
@@ -20,7 +21,7 @@ pub const MAX_COORDINATE: f32 = 1e15;
 /// looked up at the object's texture coordinates where there is one; one- or two-sided.
 #[derive(Clone, Debug)]
 pub struct Emission {
-    pub radiance: Rgb,
+    pub radiance: Spectrum,
     pub two_sided: bool,
     pub texture: Option<Arc<crate::texture::ImageTexture>>,
     /// How `texture` is read (coordinate set, transform, wrap).
@@ -57,6 +58,9 @@ pub struct TextureMaps {
     pub coverage: Coverage,
     /// Beer–Lambert absorption in the volume a dielectric encloses (`None`: clear).
     pub attenuation: Option<Attenuation>,
+    /// How a dielectric's index varies with wavelength (spectral rendering; RGB rendering
+    /// uses the material's `ior`, which should be the index at the d line).
+    pub dispersion: Dispersion,
 }
 
 /// Collects objects, materials and lights, then validates them into a [`Scene`].
@@ -195,6 +199,19 @@ impl SceneBuilder {
                 )));
             }
         }
+        if maps.dispersion.is_dispersive() {
+            if !m.encloses_volume() {
+                return Err(Error::InvalidScene(
+                    "only glass (dielectric) materials disperse".into(),
+                ));
+            }
+            if !maps.dispersion.is_valid() {
+                return Err(Error::InvalidScene(format!(
+                    "a glass's dispersion {:?} must give an index between 1 and 5 from 360 to 830 nm",
+                    maps.dispersion
+                )));
+            }
+        }
         let mut push = |t: Option<MappedTexture>| {
             t.map(|t| {
                 self.textures.push(t);
@@ -209,6 +226,7 @@ impl SceneBuilder {
             normal_scale,
             coverage: maps.coverage,
             attenuation: maps.attenuation,
+            dispersion: maps.dispersion,
         };
         self.materials.push(m);
         self.material_textures.push(ids);
@@ -459,7 +477,7 @@ impl SceneBuilder {
         self
     }
 
-    pub fn point_light(&mut self, position: Vec3, intensity: Rgb) -> &mut Self {
+    pub fn point_light(&mut self, position: Vec3, intensity: Spectrum) -> &mut Self {
         self.lights.push(Light::Point(PointLight {
             position,
             intensity,
@@ -468,7 +486,7 @@ impl SceneBuilder {
     }
 
     /// Light from one direction; its power is set from the scene's bounding sphere at build.
-    pub fn directional_light(&mut self, direction: Vec3, irradiance: Rgb) -> &mut Self {
+    pub fn directional_light(&mut self, direction: Vec3, irradiance: Spectrum) -> &mut Self {
         self.lights.push(Light::Directional(DirectionalLight::new(
             direction, irradiance,
         )));
@@ -553,9 +571,15 @@ impl SceneBuilder {
                 ));
             }
             let light = match o.emission {
-                Some(e) if e.radiance.max_element() > 0.0 => {
-                    if !e.radiance.is_finite() || e.radiance.min_element() < 0.0 {
-                        return object_error(format!("has an invalid emission {}", e.radiance));
+                Some(e) if e.radiance.rgb().max_element() > 0.0 => {
+                    // Spectra hold their colour clamped to UNBOUNDED_MAX: an emission that
+                    // reaches it overflowed.
+                    let rgb = e.radiance.rgb();
+                    if !rgb.is_finite()
+                        || rgb.min_element() < 0.0
+                        || rgb.max_element() >= crate::spectrum::UNBOUNDED_MAX
+                    {
+                        return object_error(format!("has an invalid emission {rgb}"));
                     }
                     let light = AreaLight::new(o.shapes.clone(), e.radiance, e.two_sided);
                     let light = match (light, e.texture) {

@@ -30,9 +30,10 @@ use crate::camera::CameraDesc;
 use crate::geometry::{Bounds, Shape};
 use crate::hash::Fnv1a;
 use crate::light::{EnvironmentLight, Light};
-use crate::material::{Attenuation, Material, Pbr};
+use crate::material::{Attenuation, Dispersion, Material, Pbr};
 use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
 use crate::sampling::Distribution1D;
+use crate::spectrum::Lambda;
 use crate::texture::{MappedTexture, Texture};
 
 /// Indices of a material's textures in the scene's texture list, its coverage and the
@@ -47,6 +48,8 @@ pub(crate) struct MaterialMaps {
     pub coverage: Coverage,
     /// Absorption in the volume a dielectric encloses.
     pub attenuation: Option<Attenuation>,
+    /// How a dielectric's index varies with wavelength.
+    pub dispersion: Dispersion,
 }
 
 /// How much of a surface is there (glTF 2.0 §3.9.4, `alphaMode`). Its alpha is `alpha`
@@ -291,13 +294,12 @@ impl Scene {
     /// (it occludes), so they need no attenuation. Surfaces enclosed in the glass are not in
     /// its volume: media do not nest.
     #[inline]
-    pub fn surface(&self, hit: &Hit, wo: Vec3) -> (Material, Frame) {
+    pub fn surface(&self, hit: &Hit, wo: Vec3, lambda: &mut Lambda) -> (Material, Frame) {
         let maps = &self.material_textures[hit.material as usize];
+        let m = self.material_at(hit).at(lambda, maps.dispersion);
         let m = match maps.attenuation {
-            Some(a) if hit.ng.dot(wo) < 0.0 => {
-                self.material_at(hit).attenuated(a.transmittance(hit.t))
-            }
-            _ => self.material_at(hit),
+            Some(a) if hit.ng.dot(wo) < 0.0 => m.attenuated(a.transmittance(hit.t, lambda)),
+            _ => m,
         };
         if let Some(t) = maps.normal
             && let Some(ns) = self.normal_mapped(hit, t, maps.normal_scale)
@@ -410,15 +412,15 @@ impl Scene {
     }
 
     /// Radiance emitted from a hit toward direction `w` (zero unless the hit is on an area light).
-    pub fn emitted(&self, hit: &Hit, w: Vec3) -> Rgb {
+    pub fn emitted(&self, hit: &Hit, w: Vec3, lambda: &Lambda) -> Rgb {
         if hit.light == NO_LIGHT {
             return Rgb::ZERO;
         }
         match &self.lights[hit.light as usize] {
             Light::Area(l) if l.is_textured() => {
-                l.emitted_at(hit.ng, w, self.uv_in_set(hit, l.texture_uv_set()))
+                l.emitted_at(hit.ng, w, self.uv_in_set(hit, l.texture_uv_set()), lambda)
             }
-            Light::Area(l) => l.emitted(hit.ng, w),
+            Light::Area(l) => l.emitted(hit.ng, w, lambda),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => {
                 Rgb::ZERO
             }
@@ -438,9 +440,9 @@ impl Scene {
     /// Radiance arriving along a ray that leaves the scene in direction `dir`: the environment's,
     /// or zero.
     #[inline]
-    pub fn escaped(&self, dir: Vec3) -> Rgb {
+    pub fn escaped(&self, dir: Vec3, lambda: &Lambda) -> Rgb {
         self.environment()
-            .map_or(Rgb::ZERO, |(_, e)| e.radiance(dir))
+            .map_or(Rgb::ZERO, |(_, e)| e.radiance(dir, lambda))
     }
 
     /// Pick a light in proportion to its power; returns its index and probability.

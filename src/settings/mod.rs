@@ -383,6 +383,11 @@ render_settings! {
         default: DefaultValue::Value(|k| d::light_samples(k).to_string()), note: "",
         check: one_to_max_count,
     }
+    /// Spectral rendering: every path carries three wavelengths (hero-wavelength sampling, Wilkie et al. 2014) and RGB colours are upsampled to spectra (Jakob and Hanika 2019); glass disperses. Off: the RGB channels.
+    spectral: bool {
+        group: SceneAndOutput, takes: Takes::ALL,
+        default: DefaultValue::Value(|_| "false".into()), note: "", check: anything,
+    }
     /// Largest radiance a camera sample may carry: a brighter sample is scaled down to it, keeping its colour (pbrt's maxcomponentvalue). It removes fireflies and biases the image darker.
     max_radiance: f32 {
         group: Sampling, takes: Takes::SAMPLES,

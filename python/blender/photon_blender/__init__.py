@@ -8,6 +8,13 @@ How the Blender scene becomes a Photon scene:
 - geometry and materials go through Blender's own glTF exporter (modifiers applied,
   transforms, Principled BSDF → glTF PBR: base colour, metallic, roughness, normal maps,
   transmission, emission), which Photon's glTF importer reads;
+- dispersion: Blender's shader nodes have none (no Dispersion input on the Principled or Glass
+  BSDF in 4.5 or 5.0; Cycles does not disperse), and its glTF exporter of 4.5 and 5.0 writes no
+  KHR_materials_dispersion. Newer glTF exporters take it from a "Dispersion" input of the
+  material's "glTF Material Output" node group (the group that holds Thickness), in glTF's own
+  units, 20 / V_d (V_d the Abbe number; the IOR is n_d). The add-on reads that same input and
+  writes the extension into the export where the exporter did not, so Photon's glass disperses
+  (in spectral rendering: the Spectral setting) on any Blender;
 - the camera (perspective), point, spot, sun and area lights and the world colour are read
   directly, in Photon's units: a point or area light of power P W emits P W (an area light
   is one-sided and Lambertian, radiance P / (π·area)); a spot light has the intensity
@@ -40,9 +47,11 @@ bl_info = {
     "category": "Render",
 }
 
+import json
 import math
 import os
 import shutil
+import struct
 import tempfile
 
 import bpy
@@ -103,6 +112,9 @@ class PhotonRenderSettings(bpy.types.PropertyGroup):
     seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
     threads: bpy.props.IntProperty(name="Threads", default=0, min=0, max=256,
                                    description="0: one per core")
+    spectral: bpy.props.BoolProperty(
+        name="Spectral", default=False,
+        description="Render wavelengths, not RGB channels: glass with dispersion disperses")
 
 
 def resolution(scene):
@@ -368,6 +380,64 @@ def unique_media(volumes):
     return list(seen.items())
 
 
+# The glTF add-on's settings group, by the names its exporter looks for (a prefix, any case).
+GLTF_SETTINGS_GROUPS = ("gltf material output", "gltf settings")
+
+
+def gltf_dispersion(mat, report):
+    """The Dispersion input (20 / V_d) of the glTF Material Output group in `mat`'s node tree,
+    or 0 where it has none."""
+    if mat is None or mat.node_tree is None:
+        return 0.0
+    for node in mat.node_tree.nodes:
+        tree = getattr(node, "node_tree", None)
+        if node.type != "GROUP" or tree is None or not tree.name.lower().startswith(
+                GLTF_SETTINGS_GROUPS):
+            continue
+        socket = node.inputs.get("Dispersion")
+        if socket is None:
+            continue
+        if socket.is_linked:
+            report(f"material '{mat.name}': its Dispersion is driven by nodes, not mapped: its "
+                   "value is used")
+        return max(float(socket.default_value), 0.0)
+    return 0.0
+
+
+def add_dispersion(glb, report):
+    """Give the exported materials of the GLB file `glb` (by name, as the exporter names them)
+    the KHR_materials_dispersion of their glTF Material Output group, where the exporter wrote
+    none (before Blender's newer exporters, or there without KHR_materials_volume)."""
+    if not any(gltf_dispersion(m, lambda _: None) for m in bpy.data.materials):
+        return
+    with open(glb, "rb") as f:
+        data = f.read()
+    # GLB: a 12-byte header, then the JSON chunk (length, type, text), then the BIN chunk.
+    json_length, chunk_type = struct.unpack_from("<I4s", data, 12)
+    if data[:4] != b"glTF" or chunk_type != b"JSON":
+        raise RuntimeError(f"{glb} is not the GLB file Blender's exporter writes")
+    doc = json.loads(data[20:20 + json_length])
+    changed = False
+    for material in doc.get("materials", []):
+        value = gltf_dispersion(bpy.data.materials.get(material.get("name", "")), report)
+        extensions = material.get("extensions", {})
+        if value and "KHR_materials_dispersion" not in extensions:
+            extensions["KHR_materials_dispersion"] = {"dispersion": value}
+            material["extensions"] = extensions
+            changed = True
+    if not changed:
+        return
+    used = doc.setdefault("extensionsUsed", [])
+    if "KHR_materials_dispersion" not in used:
+        used.append("KHR_materials_dispersion")
+    text = json.dumps(doc, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 4)  # chunks are 4-byte aligned; JSON pads with spaces
+    rest = data[20 + json_length:]
+    with open(glb, "wb") as f:
+        f.write(struct.pack("<4sII", b"glTF", 2, 20 + len(text) + len(rest)))
+        f.write(struct.pack("<I4s", len(text), b"JSON") + text + rest)
+
+
 def export_scene(depsgraph, directory, report=lambda m: None):
     """Write the Photon scene of the evaluated `depsgraph` into `directory`; returns the
     .toml path and the resolution."""
@@ -395,6 +465,7 @@ def export_scene(depsgraph, directory, report=lambda m: None):
         finally:
             for o in hidden:
                 o.hide_set(False)
+        add_dispersion(glb, report)
     camera, size = camera_toml(scene)
     world_volume, _ = volume_output(
         scene.world.node_tree if scene.world is not None and scene.world.use_nodes else None,
@@ -429,6 +500,8 @@ def options(settings):
     """The panel's render settings for the chosen integrator (Photon refuses a setting the
     integrator does not take); 0 leaves spp and max_depth to the integrator's default."""
     o = {"integrator": settings.integrator, "seed": settings.seed}
+    if settings.spectral:
+        o["spectral"] = True
     if settings.max_depth:
         o["max_depth"] = settings.max_depth
     if settings.integrator in ("sppm", "ppm"):
@@ -533,6 +606,7 @@ class RENDER_PT_photon(bpy.types.Panel):
             if s.integrator == "photon":
                 layout.prop(s, "photons")
         layout.prop(s, "max_depth")
+        layout.prop(s, "spectral")
         layout.prop(s, "seed")
         layout.prop(s, "threads")
 

@@ -5,6 +5,7 @@
 use crate::description::{
     CameraSpec, EmissionSpec, LightSpec, MaterialSpec, SceneDesc, ShapeKind, ShapeSpec,
 };
+use crate::material::Dispersion;
 use crate::math::{Rgb, Vec3};
 
 type Quad = [[f32; 3]; 4];
@@ -145,6 +146,7 @@ pub fn desc() -> SceneDesc {
             transmittance: Rgb::ONE,
             alpha: 0.0,
             attenuation: None,
+            dispersion: Dispersion::None,
         },
     );
     let mirror = d.material(
@@ -176,6 +178,7 @@ pub fn desc() -> SceneDesc {
             radiance: Rgb::from_array(LIGHT_RADIANCE),
             two_sided: false,
             texture: None,
+            spectrum: None,
         }),
     })));
     d

@@ -5,6 +5,7 @@
 use crate::description::{
     CameraSpec, EmissionSpec, LightSpec, MaterialSpec, SceneDesc, ShapeKind, ShapeSpec,
 };
+use crate::material::Dispersion;
 use crate::math::{Rgb, Vec3};
 use crate::modeling::pot::PotParams;
 
@@ -62,6 +63,7 @@ pub fn desc() -> SceneDesc {
             transmittance: Rgb::ONE,
             alpha: 0.0,
             attenuation: None,
+            dispersion: Dispersion::None,
         },
     );
     let clay = d.diffuse("terracotta", TERRACOTTA);
@@ -151,6 +153,7 @@ pub fn desc() -> SceneDesc {
         emission: Some(EmissionSpec::Power {
             power: Rgb::splat(LIGHT_POWER),
             two_sided: false,
+            spectrum: None,
         }),
     })));
     d

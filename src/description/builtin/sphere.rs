@@ -39,6 +39,7 @@ pub fn desc() -> SceneDesc {
     d.lights.push(LightSpec::Point {
         position: Vec3::ZERO,
         intensity: Intensity::Intensity(Rgb::splat(INTENSITY)),
+        spectrum: None,
     });
     d
 }

@@ -7,7 +7,7 @@ use crate::description::mesh::ImportedMaterial;
 use crate::description::{ColorSpec, EmissionSpec, ImageRef, MaterialSpec, PbrSpec, SharedTexture};
 use crate::error::Result;
 use crate::io::texture::Encoding;
-use crate::material::Attenuation;
+use crate::material::{Attenuation, Dispersion};
 use crate::math::Rgb;
 use crate::scene::Coverage;
 use crate::texture::{UvMapping, Wrap};
@@ -151,6 +151,35 @@ fn attenuation(
     Ok((!clear).then_some(Attenuation { color, distance }))
 }
 
+/// `KHR_materials_dispersion`: `dispersion` = 20 / V_d (0, the default, is none), a Cauchy
+/// glass through the material's index at the d line (the extension's definition).
+fn dispersion(g: &Opened, m: &gltf::Material, name: &str, ior: f32) -> Result<Dispersion> {
+    let Some(ext) = m.extension_value("KHR_materials_dispersion") else {
+        return Ok(Dispersion::None);
+    };
+    let value = match ext.get("dispersion") {
+        None => 0.0,
+        Some(v) => v.as_f64().unwrap_or(f64::NAN) as f32,
+    };
+    if !(value.is_finite() && value >= 0.0) {
+        return Err(g.error(format!(
+            "material '{name}' has KHR_materials_dispersion {}: dispersion must be a number ≥ 0",
+            ext.get("dispersion")
+                .map_or_else(String::new, ToString::to_string)
+        )));
+    }
+    if value == 0.0 {
+        return Ok(Dispersion::None);
+    }
+    let d = Dispersion::from_abbe(ior, 20.0 / value);
+    if !d.is_valid() {
+        return Err(g.error(format!(
+            "material '{name}' has KHR_materials_dispersion {value} with ior {ior}: its index leaves 1 to 5 in the visible range"
+        )));
+    }
+    Ok(d)
+}
+
 pub(super) fn convert_material(
     g: &Opened,
     sink: &mut Sink,
@@ -223,11 +252,13 @@ pub(super) fn convert_material(
         if transmission < 1.0 {
             sink.warn("partial transmission is rendered as fully transmissive glass");
         }
+        let ior = m.ior().unwrap_or(1.5);
         MaterialSpec::Glass {
-            ior: m.ior().unwrap_or(1.5),
+            ior,
             transmittance: base,
             alpha: roughness * roughness,
             attenuation: attenuation(g, sink, m, &name)?,
+            dispersion: dispersion(g, m, &name, ior)?,
         }
     } else {
         let base_color = match pbr.base_color_texture() {
@@ -310,6 +341,7 @@ pub(super) fn convert_material(
         radiance: emitted,
         two_sided: m.double_sided(),
         texture: emissive_texture,
+        spectrum: None,
     });
     Ok(ImportedMaterial {
         name,

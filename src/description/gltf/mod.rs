@@ -105,6 +105,7 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
                 gltf::khr_lights_punctual::Kind::Point => lights.push(LightSpec::Point {
                     position,
                     intensity: Intensity::Intensity(color),
+                    spectrum: None,
                 }),
                 gltf::khr_lights_punctual::Kind::Spot {
                     inner_cone_angle,
@@ -115,12 +116,14 @@ pub fn import_scene(path: &Path) -> Result<Loaded> {
                     intensity: Intensity::Intensity(color),
                     angle_deg: outer_cone_angle.to_degrees(),
                     falloff_deg: (outer_cone_angle - inner_cone_angle).max(0.0).to_degrees(),
+                    spectrum: None,
                 }),
                 // Illuminance in lux (lm/m²) → irradiance in W/m².
                 gltf::khr_lights_punctual::Kind::Directional => {
                     lights.push(LightSpec::Directional {
                         direction: forward,
                         irradiance: color,
+                        spectrum: None,
                     })
                 }
             }
@@ -321,6 +324,7 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_texture_transform",
     "KHR_materials_specular",
     "KHR_materials_volume",
+    "KHR_materials_dispersion",
 ];
 /// Extensions Blender writes routinely, with what of them we cannot show.
 const PARTLY_MAPPED: &[(&str, &str)] = &[];
@@ -582,6 +586,7 @@ fn emitted_and_sky_power(meshes: &MeshFile) -> (f32, f32) {
             radiance,
             two_sided,
             texture,
+            ..
         }) = part.material.as_ref().and_then(|m| m.emission.as_ref())
         else {
             continue;

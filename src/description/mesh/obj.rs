@@ -5,6 +5,7 @@ use super::{ImportedMaterial, MeshFile, MeshPart, file_error, read_bytes};
 use crate::description::source::Diagnostic;
 use crate::description::{ColorSpec, EmissionSpec, MaterialSpec};
 use crate::error::{Error, Result};
+use crate::material::Dispersion;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::TriangleMesh;
 use std::path::Path;
@@ -119,6 +120,7 @@ fn convert(m: &tobj::Material, warnings: &mut Vec<String>) -> ImportedMaterial {
             transmittance: Rgb::ONE,
             alpha: 0.0,
             attenuation: None,
+            dispersion: Dispersion::None,
         },
         _ => MaterialSpec::Diffuse {
             albedo: match &m.diffuse_texture {
@@ -143,6 +145,7 @@ fn convert(m: &tobj::Material, warnings: &mut Vec<String>) -> ImportedMaterial {
             radiance,
             two_sided: false,
             texture: None,
+            spectrum: None,
         });
     ImportedMaterial {
         name: m.name.clone(),

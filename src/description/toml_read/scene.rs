@@ -4,7 +4,7 @@ use super::values::{self, Table, Value, array, color, float, floats, integer, st
 use crate::description::source::did_you_mean;
 use crate::description::{CameraSpec, ColorSpec, ConductorSpec, ImageRef, MaterialSpec, PbrSpec};
 use crate::error::{Error, Result};
-use crate::material::{Attenuation, Metal};
+use crate::material::{Attenuation, Dispersion, Metal};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::render::MAX_RESOLUTION;
 use crate::settings::{self, RenderOptions};
@@ -151,7 +151,17 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
             })
         }
         "glass" => {
-            t.allow(&["type", "ior", "transmittance", "alpha", "attenuation"])?;
+            t.allow(&[
+                "type",
+                "ior",
+                "transmittance",
+                "alpha",
+                "attenuation",
+                "glass",
+                "abbe",
+                "cauchy",
+                "sellmeier",
+            ])?;
             let ior = t.opt_f32("ior")?.unwrap_or(1.5);
             if ior <= 0.0 {
                 return Err(t.cx.err(
@@ -159,11 +169,13 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
                     "'ior' must be positive",
                 ));
             }
+            let dispersion = dispersion(t, ior)?;
             Ok(MaterialSpec::Glass {
-                ior,
+                ior: dispersion.ior_d().unwrap_or(ior),
                 transmittance: t.opt_color("transmittance")?.unwrap_or(Rgb::ONE),
                 alpha: alphas(t, false)?[0],
                 attenuation: attenuation(t)?,
+                dispersion,
             })
         }
         "conductor" => {
@@ -222,6 +234,81 @@ pub(super) fn material(t: &Table) -> Result<MaterialSpec> {
 /// Glass's absorption inside, `attenuation = { color = [r, g, b], distance = d }`: white light
 /// that travels `d` inside comes out as `color` (`KHR_materials_volume`'s attenuation colour
 /// and distance).
+/// How a glass's index varies with wavelength: one of `glass` (a name), `abbe` (the Abbe
+/// number, with `ior` the index at the d line), `cauchy = { a, b }` or `sellmeier = { b, c }`
+/// (coefficients in micrometres, as catalogues give them). The last three give the index
+/// themselves, so they refuse an `ior`.
+fn dispersion(t: &Table, ior: f32) -> Result<Dispersion> {
+    let given: Vec<&str> = ["glass", "abbe", "cauchy", "sellmeier"]
+        .into_iter()
+        .filter(|k| t.get(k).is_some())
+        .collect();
+    let Some(&key) = given.first() else {
+        return Ok(Dispersion::None);
+    };
+    let v = t.required(key)?;
+    if given.len() > 1 {
+        return Err(t.cx.err(
+            v.span(),
+            format!(
+                "{}: give one of glass, abbe, cauchy and sellmeier",
+                t.label(key)
+            ),
+        ));
+    }
+    if key != "abbe"
+        && let Some(i) = t.get("ior")
+    {
+        return Err(t.cx.err(
+            i.span(),
+            format!("{} gives the index itself; leave out 'ior'", t.label(key)),
+        ));
+    }
+    let d = match key {
+        "glass" => {
+            let name = t.req_str("glass")?;
+            Dispersion::named(name).ok_or_else(|| {
+                let names: Vec<&str> = Dispersion::names().collect();
+                t.cx.err(
+                    v.span(),
+                    format!(
+                        "{}: unknown glass '{name}' (expected one of: {})",
+                        t.label(key),
+                        names.join(", ")
+                    ),
+                )
+            })?
+        }
+        "abbe" => Dispersion::from_abbe(ior, t.positive("abbe")?),
+        "cauchy" => {
+            let c = t.cx.table(v, &t.label(key))?;
+            c.allow(&["a", "b"])?;
+            Dispersion::Cauchy {
+                a: c.positive("a")?,
+                b: c.opt_f32("b")?.unwrap_or(0.0),
+            }
+        }
+        _ => {
+            let s = t.cx.table(v, &t.label(key))?;
+            s.allow(&["b", "c"])?;
+            Dispersion::Sellmeier {
+                b: s.req_vec3("b")?.to_array(),
+                c: s.req_vec3("c")?.to_array(),
+            }
+        }
+    };
+    if !d.is_valid() {
+        return Err(t.cx.err(
+            v.span(),
+            format!(
+                "{} gives an index outside 1 to 5 somewhere from 360 to 830 nm",
+                t.label(key)
+            ),
+        ));
+    }
+    Ok(d)
+}
+
 fn attenuation(t: &Table) -> Result<Option<Attenuation>> {
     let Some(v) = t.get("attenuation") else {
         return Ok(None);

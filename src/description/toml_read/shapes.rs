@@ -3,11 +3,11 @@
 use super::scene::bad_type;
 use super::values::{Cx, Table, Value, array, float, floats, integer, vec3};
 use crate::description::{
-    EmissionSpec, EnvironmentSpec, ImageRef, Intensity, LightSpec, ShapeKind, ShapeSpec, Sky,
-    TransformStep,
+    EmissionSpec, EnvironmentSpec, ImageRef, Intensity, LightSpec, LightSpectrum, ShapeKind,
+    ShapeSpec, Sky, TransformStep,
 };
 use crate::error::Result;
-use crate::math::{Vec2, Vec3};
+use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::TriangleMesh;
 use toml::de::DeValue;
 
@@ -45,6 +45,7 @@ pub(super) fn shape(t: &Table, names: &Names, is_light: bool) -> Result<ShapeSpe
     let mut allowed = vec!["type", "material", "transform"];
     if is_light {
         allowed.extend(["radiance", "power", "two_sided", "texture"]);
+        allowed.extend(SPECTRUM_KEYS);
     } else {
         allowed.extend(["emission", "interior", "exterior"]);
     }
@@ -103,7 +104,14 @@ pub(super) fn shape(t: &Table, names: &Names, is_light: bool) -> Result<ShapeSpe
         match t.get("emission") {
             Some(v) => {
                 let et = t.cx.table(v, &t.label("emission"))?;
-                et.allow(&["radiance", "power", "two_sided", "texture"])?;
+                et.allow(&[
+                    "radiance",
+                    "power",
+                    "two_sided",
+                    "texture",
+                    "temperature",
+                    "illuminant",
+                ])?;
                 Some(emission(&et)?)
             }
             None => None,
@@ -162,8 +170,13 @@ pub(super) fn emission(t: &Table) -> Result<EmissionSpec> {
             radiance,
             two_sided,
             texture,
+            spectrum: light_spectrum(t, "radiance", radiance)?,
         }),
-        (None, Some(power)) => Ok(EmissionSpec::Power { power, two_sided }),
+        (None, Some(power)) => Ok(EmissionSpec::Power {
+            power,
+            two_sided,
+            spectrum: light_spectrum(t, "power", power)?,
+        }),
         (Some(_), Some(_)) => Err(t.cx.err(
             t.get("power").map_or(0..0, |v| v.span()),
             format!("{} gives both 'radiance' and 'power'; give one", t.what),
@@ -173,6 +186,63 @@ pub(super) fn emission(t: &Table) -> Result<EmissionSpec> {
             format!("{} needs 'radiance' (W·m⁻²·sr⁻¹) or 'power' (W)", t.what),
         )),
     }
+}
+
+/// The keys that give a light's colour as a spectrum instead of RGB.
+pub(super) const SPECTRUM_KEYS: [&str; 2] = ["temperature", "illuminant"];
+
+/// A light's `temperature` (kelvin: a blackbody) or `illuminant` ("D65", "A"), if it has one;
+/// then its brightness, `key`'s value `rgb`, must be one number (grey).
+fn light_spectrum(t: &Table, key: &str, rgb: Rgb) -> Result<Option<LightSpectrum>> {
+    let spectrum = match (t.get("temperature"), t.get("illuminant")) {
+        (None, None) => return Ok(None),
+        (Some(_), Some(v)) => {
+            return Err(t.cx.err(
+                v.span(),
+                format!(
+                    "{} gives both 'temperature' and 'illuminant'; give one",
+                    t.what
+                ),
+            ));
+        }
+        (Some(v), None) => {
+            let k = t.positive("temperature")?;
+            if !LightSpectrum::KELVIN.contains(&k) {
+                return Err(t.cx.err(
+                    v.span(),
+                    format!(
+                        "{} must be between {} and {} kelvin",
+                        t.label("temperature"),
+                        LightSpectrum::KELVIN.start(),
+                        LightSpectrum::KELVIN.end()
+                    ),
+                ));
+            }
+            LightSpectrum::Blackbody(k)
+        }
+        (None, Some(v)) => {
+            let name = t.req_str("illuminant")?;
+            LightSpectrum::named(name).ok_or_else(|| {
+                t.cx.err(
+                    v.span(),
+                    format!(
+                        "{}: unknown illuminant '{name}' (expected D65 or A)",
+                        t.label("illuminant")
+                    ),
+                )
+            })?
+        }
+    };
+    if rgb.x != rgb.y || rgb.y != rgb.z {
+        return Err(t.cx.err(
+            t.get(key).map_or(0..0, |v| v.span()),
+            format!(
+                "{} is the brightness of a light whose colour is its spectrum: give one number",
+                t.label(key)
+            ),
+        ));
+    }
+    Ok(Some(spectrum))
 }
 
 pub(super) fn inline_mesh(t: &Table) -> Result<TriangleMesh> {
@@ -324,6 +394,14 @@ pub(super) fn transform(cx: &Cx, v: &Value) -> Result<Vec<TransformStep>> {
     Ok(steps)
 }
 
+/// [`light_spectrum`] of a point or spot light's intensity or power.
+fn intensity_spectrum(t: &Table, i: Intensity) -> Result<Option<LightSpectrum>> {
+    match i {
+        Intensity::Intensity(c) => light_spectrum(t, "intensity", c),
+        Intensity::Power(c) => light_spectrum(t, "power", c),
+    }
+}
+
 pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
     let kind = t.req_str("type")?;
     let intensity = |t: &Table| -> Result<Intensity> {
@@ -338,10 +416,19 @@ pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
     };
     match kind {
         "point" => {
-            t.allow(&["type", "position", "intensity", "power"])?;
+            t.allow(&[
+                "type",
+                "position",
+                "intensity",
+                "power",
+                "temperature",
+                "illuminant",
+            ])?;
+            let intensity = intensity(t)?;
             Ok(LightSpec::Point {
                 position: t.req_vec3("position")?,
-                intensity: intensity(t)?,
+                intensity,
+                spectrum: intensity_spectrum(t, intensity)?,
             })
         }
         "spot" => {
@@ -353,6 +440,8 @@ pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
                 "power",
                 "angle",
                 "falloff",
+                "temperature",
+                "illuminant",
             ])?;
             let angle = t.opt_f32("angle")?.unwrap_or(30.0);
             if !(angle > 0.0 && angle <= 90.0) {
@@ -376,24 +465,34 @@ pub(super) fn light(t: &Table, names: &[&str]) -> Result<LightSpec> {
                     "'look_at' must differ from 'position' (it sets the spot's direction)",
                 ));
             }
+            let intensity = intensity(t)?;
             Ok(LightSpec::Spot {
                 position,
                 look_at,
-                intensity: intensity(t)?,
+                intensity,
                 angle_deg: angle,
                 falloff_deg: falloff,
+                spectrum: intensity_spectrum(t, intensity)?,
             })
         }
         "directional" => {
-            t.allow(&["type", "direction", "irradiance"])?;
+            t.allow(&[
+                "type",
+                "direction",
+                "irradiance",
+                "temperature",
+                "illuminant",
+            ])?;
+            let irradiance = t.opt_color("irradiance")?.ok_or_else(|| {
+                t.cx.err(
+                    t.span.start..t.span.start + 1,
+                    format!("{} needs 'irradiance' (W/m²)", t.what),
+                )
+            })?;
             Ok(LightSpec::Directional {
                 direction: nonzero(t, "direction", -Vec3::Z)?,
-                irradiance: t.opt_color("irradiance")?.ok_or_else(|| {
-                    t.cx.err(
-                        t.span.start..t.span.start + 1,
-                        format!("{} needs 'irradiance' (W/m²)", t.what),
-                    )
-                })?,
+                irradiance,
+                spectrum: light_spectrum(t, "irradiance", irradiance)?,
             })
         }
         "environment" => environment(t),
