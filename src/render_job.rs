@@ -137,11 +137,7 @@ impl<'s> RenderJob<'s> {
         }
         if options.spectral == Some(true) {
             if !scene.media().is_empty() {
-                return needs(
-                    "spectral",
-                    None,
-                    "spectral rendering does not take participating media yet (render the scene in RGB)",
-                );
+                return needs("spectral", None, crate::scene::SPECTRAL_AND_MEDIA);
             }
             if options.per_channel == Some(true) {
                 return needs(

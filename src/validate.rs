@@ -69,6 +69,20 @@ pub struct Budget {
 }
 
 impl Budget {
+    /// The budget for spectral rendering: the progressive methods' passes share their
+    /// wavelengths, three per pass, so the colour of an image of few passes is a coarse
+    /// sample of the spectrum; the same photons in four times the passes (a quarter each)
+    /// sample it four times as finely. (At `QUICK`'s 64 passes the blue of `spot-light` read
+    /// 2.4% low, at 256 passes 0.1%.)
+    pub fn spectral(self) -> Budget {
+        Budget {
+            spectral: true,
+            passes: self.passes * 4,
+            photons_per_pass: self.photons_per_pass / 4,
+            ..self
+        }
+    }
+
     /// What the test suite runs: every scene and integrator in well under a minute in all.
     pub const QUICK: Budget = Budget {
         size: 32,

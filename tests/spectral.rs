@@ -494,3 +494,43 @@ temperature = {kelvin}
         }
     }
 }
+
+#[test]
+fn spectral_renders_are_the_same_bits_on_one_and_two_threads() {
+    // The prism's dispersion, a rough dielectric, a blackbody light and a textured sky: what
+    // spectral rendering adds, in every integrator.
+    let toml = prism_scene(24, 8).replace(
+        "[[lights]]",
+        "[materials.frost]\ntype = \"glass\"\nabbe = 30\nalpha = 0.2\n\n[[shapes]]\ntype = \"sphere\"\ncenter = [0.6, 0.0, 1.0]\nradius = 0.2\nmaterial = \"frost\"\n\n[[lights]]\ntype = \"point\"\nposition = [0.0, 1.5, 0.5]\npower = 20.0\ntemperature = 3200\n\n[[lights]]",
+    );
+    for integrator in ["path", "direct", "photon", "sppm", "ppm"] {
+        let samples = if integrator.ends_with("ppm") {
+            "passes"
+        } else {
+            "spp"
+        };
+        let images = common::on_one_and_two_threads(|| {
+            let mut options = vec![
+                ("integrator", integrator),
+                ("spectral", "true"),
+                (samples, "2"),
+            ];
+            if integrator == "photon" {
+                options.extend([("photons", "20000"), ("caustic_photons", "20000")]);
+            }
+            if integrator.ends_with("ppm") {
+                options.push(("photons_per_pass", "5000"));
+            }
+            render(&toml, &options)
+                .pixels
+                .iter()
+                .map(|p| p.to_array().map(f32::to_bits))
+                .collect::<Vec<_>>()
+        });
+        assert_eq!(images[0], images[1], "{integrator}");
+        assert!(
+            images[0].iter().flatten().any(|&b| f32::from_bits(b) > 0.0),
+            "{integrator} renders something"
+        );
+    }
+}

@@ -23,16 +23,22 @@ pixel that comes out of a pass not finite (one NaN sample spoils it) is left out
 half, and the script lists such pixels (pass, row, column).
 
 The references in the repository were made with Mitsuba 3.9.1 (drjit 1.5.0), variant
-`llvm_ad_rgb` (LLVM 19 on 2 x86-64 cores); `scalar_rgb` gives the same image, slower. For the
-LLVM variants, Dr.Jit must find libLLVM: on Debian `apt-get install libllvm19`, then
+`llvm_ad_rgb` (LLVM 19 on 2 x86-64 cores); `scalar_rgb` gives the same image, slower. A spectral
+variant (`--variant llvm_ad_spectral`, falling back to `scalar_spectral`) writes
+NAME/reference-spectral.exr instead (the reference file's name with `-spectral` before `.exr`;
+still linear sRGB: Mitsuba's film converts the spectral samples). For the LLVM variants, Dr.Jit
+must find libLLVM: on Debian `apt-get install libllvm19`, then
 `export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1` (this script tries
 that path itself when the variable is unset).
 
 Photon's `pbr` material (the glTF 2.0 metallic-roughness BRDF) has no Mitsuba plugin: the
-scenes use `gltf_pbr`, the Python plugin in validation/gltf_pbr.py, registered here.
+scenes use `gltf_pbr`, the Python plugin in validation/gltf_pbr.py, registered here. It works in
+RGB; in a spectral variant this script registers a subclass that upsamples its base colour and f0
+as Mitsuba upsamples any RGB reflectance (the `srgb` model, Jakob and Hanika 2019).
 
-Options: --variant (default llvm_ad_rgb, falling back to scalar_rgb), --spp N (override the
-scene's count, e.g. for a quick look), --output FILE (only with one scene), --pass-spp N,
+Options: --variant (default llvm_ad_rgb, falling back to scalar_rgb; a spectral one to
+scalar_spectral), --spp N (override the scene's count, e.g. for a quick look), --output FILE
+(only with one scene), --pass-spp N,
 --threads N (Dr.Jit's worker threads; default: all cores), --integrator NAME (override the
 XML's, max_depth -1).
 """
@@ -76,9 +82,55 @@ def set_variant(mi, wanted):
         mi.set_variant(wanted)
         return wanted
     except Exception as e:  # no LLVM: the scalar variant gives the same image, slower
-        print(f"variant {wanted} unavailable ({e}); using scalar_rgb", file=sys.stderr)
-        mi.set_variant("scalar_rgb")
-        return "scalar_rgb"
+        fallback = "scalar_spectral" if "spectral" in wanted else "scalar_rgb"
+        print(f"variant {wanted} unavailable ({e}); using {fallback}", file=sys.stderr)
+        mi.set_variant(fallback)
+        return fallback
+
+
+def register_gltf_pbr(mi):
+    """Register the `gltf_pbr` plugin (validation/gltf_pbr.py). Its colours are RGB (mi.Color3f);
+    in a spectral variant, register a subclass instead whose base colour and f0 are spectra:
+    each RGB upsampled with Mitsuba's `srgb` model (Jakob and Hanika 2019, as Mitsuba upsamples
+    any `<rgb>` reflectance) at the path's wavelengths, which eval/sample/eval_pdf note first.
+    f0 = mix(0.04, base, metallic) is upsampled as an RGB: a grey 0.04 stays exactly flat, and
+    for metallic 0 or 1 (the scenes' values) that is the mix of the upsampled colours."""
+    import gltf_pbr  # the glTF metallic-roughness BRDF (Photon's pbr) as a Mitsuba plugin
+
+    base_class = gltf_pbr.register()
+    if not mi.is_spectral:
+        return
+
+    class SpectralGltfPbr(base_class):
+        def __init__(self, props):
+            base_class.__init__(self, props)
+            self._wavelengths = None
+
+        def _color(self, c):
+            coeff = mi.srgb_model_fetch(mi.ScalarColor3f(c[0], c[1], c[2]))
+            return mi.srgb_model_eval(coeff, self._wavelengths)
+
+        def _eval(self, ctx, wi, wo):  # as the base class, with a spectrum for mi.Color3f(0)
+            value = mi.Spectrum(0.0)
+            if ctx.is_enabled(self.lobes[1], 1):
+                value += self._diffuse(wi, wo)
+            if not self.delta and ctx.is_enabled(self.lobes[0], 0):
+                value += self._specular(wi, wo)
+            return value * mi.Frame3f.cos_theta(wo)
+
+        def eval(self, ctx, si, wo, active=True):
+            self._wavelengths = si.wavelengths
+            return base_class.eval(self, ctx, si, wo, active)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            self._wavelengths = si.wavelengths
+            return base_class.eval_pdf(self, ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            self._wavelengths = si.wavelengths
+            return base_class.sample(self, ctx, si, sample1, sample2, active)
+
+    mi.register_bsdf("gltf_pbr", lambda props: SpectralGltfPbr(props))
 
 
 def half_rel_mse(a, b):
@@ -88,13 +140,17 @@ def half_rel_mse(a, b):
     return float(np.mean((a - b) ** 2 / (m * m + 0.01)))
 
 
-def reference_file(xml_path):
+def reference_file(xml_path, spectral=False):
     """The reference's file name: `reference.exr`, or the one a `<!-- reference-file: NAME -->`
     line names (study-reference.exr for a scene made for an equal-time study, which stays out of
-    `photon validate` and the tests)."""
+    `photon validate` and the tests); with `-spectral` before `.exr` for a spectral variant."""
     with open(xml_path) as f:
         m = re.search(r"<!--\s*reference-file:\s*(\S+)\s*-->", f.read())
-    return m.group(1) if m else "reference.exr"
+    name = m.group(1) if m else "reference.exr"
+    if spectral:
+        stem, ext = os.path.splitext(name)
+        name = f"{stem}-spectral{ext}"
+    return name
 
 
 def scene_integrator(xml_path):
@@ -115,7 +171,15 @@ def render(mi, name, spp, pass_spp, output, integrator=None):
     # The sampler is made for one pass's count. Made for the whole count and asked for one
     # pass's samples, the multijitter sampler drew from a pattern meant for far more samples:
     # at 98304 spp the light-strip reference came out 6% dark, with deceptively low noise.
+    import drjit as dr
+
+    threads = dr.thread_count()
+    if threads < 2:
+        # Reading an EXR (env-spheres' sky.exr) hangs with one thread, as writing one does
+        # (below): load the scene with two, then go back.
+        dr.set_thread_count(2)
     scene = mi.load_file(xml, spp=per_pass)
+    dr.set_thread_count(threads)
     used = scene_integrator(xml)
     override = None
     if integrator and integrator != used:
@@ -147,10 +211,7 @@ def render(mi, name, spp, pass_spp, output, integrator=None):
     a, b = halves[0] / counts[0], halves[1] / counts[1]
     ref = (0.5 * (a + b)).astype(np.float32)
     noise = half_rel_mse(a, b)
-    out = output or os.path.join(HERE, name, reference_file(xml))
-    import drjit as dr
-
-    threads = dr.thread_count()
+    out = output or os.path.join(HERE, name, reference_file(xml, mi.is_spectral))
     if threads < 2:
         # Mitsuba 3.9.1 / Dr.Jit 1.5.0: after dr.set_thread_count(1), Bitmap.write of an EXR
         # never returns (seen here, cause not looked into): write it with two, then go back.
@@ -191,9 +252,7 @@ def main():
 
         dr.set_thread_count(a.threads)
     sys.path.insert(0, HERE)
-    import gltf_pbr  # the glTF metallic-roughness BRDF (Photon's pbr) as a Mitsuba plugin
-
-    gltf_pbr.register()
+    register_gltf_pbr(mi)
     mi.set_log_level(mi.LogLevel.Error)  # the samplers' "sample count rounded" warnings
     if mi.__version__ != MITSUBA_VERSION_USED:
         print(f"note: Mitsuba {mi.__version__}; the references were made with {MITSUBA_VERSION_USED}", file=sys.stderr)

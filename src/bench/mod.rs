@@ -73,12 +73,13 @@ pub struct Crossing {
     pub seconds: Option<f64>,
 }
 
-/// Render `scene` with `integrator` in about `budget` seconds.
+/// Render `scene` with `integrator` in about `budget` seconds (spectrally if `spectral`).
 pub fn run_at_budget(
     scene: &Scene,
     desc: &SceneDesc,
     integrator: IntegratorKind,
     budget: f64,
+    spectral: bool,
     threads: &rayon::ThreadPool,
 ) -> Result<(Image, f64, String)> {
     let render = |options: RenderOptions| -> Result<(Image, f64, u64)> {
@@ -93,6 +94,7 @@ pub fn run_at_budget(
         integrator: Some(integrator),
         spp,
         time,
+        spectral: spectral.then_some(true),
         ..RenderOptions::default()
     };
     if integrator.is_progressive() {

@@ -24,6 +24,9 @@ pub struct BenchArgs {
     /// Folder of references, NAME.exr for scene NAME (the repository's bench/references).
     #[arg(long, default_value = "bench/references")]
     references: PathBuf,
+    /// Render spectrally, against NAME-spectral.exr in the references' folder.
+    #[arg(long)]
+    spectral: bool,
     /// Output folder: bench.json and bench.svg.
     #[arg(short, long, default_value = "bench-results")]
     output: PathBuf,
@@ -146,7 +149,8 @@ fn bench_scene(
     let stem = Path::new(name)
         .file_stem()
         .map_or(name.to_string(), |s| s.to_string_lossy().into_owned());
-    let reference_path = a.references.join(format!("{stem}.exr"));
+    let suffix = if a.spectral { "-spectral" } else { "" };
+    let reference_path = a.references.join(format!("{stem}{suffix}.exr"));
     let reference = if reference_path.exists() {
         let r = read_image(&reference_path)
             .with_context(|| format!("reading {}", reference_path.display()))?;
@@ -163,7 +167,7 @@ fn bench_scene(
     for &integrator in integrators {
         for &budget in &a.budgets {
             let (image, seconds, samples) =
-                bench::run_at_budget(&scene, &desc, integrator, budget, pool)?;
+                bench::run_at_budget(&scene, &desc, integrator, budget, a.spectral, pool)?;
             let [rel_mse, rmse, crop_rmse] = bench::measure(&image, reference.as_ref(), crop);
             let show = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.5}"));
             eprintln!(

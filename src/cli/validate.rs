@@ -38,9 +38,11 @@ fn parse_method(s: &str) -> Result<Method, String> {
 }
 
 pub fn run_suite(a: &ValidateArgs) -> Result<()> {
-    let budget = Budget {
-        spectral: a.spectral,
-        ..if a.quick { Budget::QUICK } else { Budget::FULL }
+    let budget = if a.quick { Budget::QUICK } else { Budget::FULL };
+    let budget = if a.spectral {
+        budget.spectral()
+    } else {
+        budget
     };
     let mut cases = find_cases(&a.dir, a.spectral)?;
     if !a.scenes.is_empty() {
@@ -67,6 +69,10 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
     let mut outcomes: Vec<Outcome> = Vec::new();
     for case in &cases {
         let loaded = load_case(case, budget.size)?;
+        if let Err(e) = loaded.scene.check_spectral(budget.spectral) {
+            eprintln!("photon: {:<16} left out: {e}", case.name);
+            continue;
+        }
         for &m in &methods {
             let o = pool.install(|| run(case, &loaded, m, &budget))?;
             let c = &o.comparison;
@@ -89,6 +95,9 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
         let mut command = format!("photon validate {}", a.dir.display());
         if a.quick {
             command += " --quick";
+        }
+        if a.spectral {
+            command += " --spectral";
         }
         if !a.scenes.is_empty() {
             command += &format!(" --scenes {}", a.scenes.join(","));

@@ -253,6 +253,7 @@ pub fn trace_photons(
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<PhotonMaps> {
     config.validate()?;
+    scene.check_spectral(config.spectral)?;
     let lights = scene.lights();
     let channels: Vec<Channel> = if config.per_channel {
         vec![Channel::Red, Channel::Green, Channel::Blue]

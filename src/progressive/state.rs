@@ -169,6 +169,7 @@ pub struct PassSeconds {
 impl ProgressiveState {
     pub fn new(scene: &Scene, config: ProgressiveConfig, first_pass: u64) -> Result<Self> {
         config.validate()?;
+        scene.check_spectral(config.spectral)?;
         let n = config.width as usize * config.height as usize;
         Ok(Self {
             scene_name: scene.name.clone(),

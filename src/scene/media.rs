@@ -7,6 +7,7 @@
 //! and any other surface leaves it where it was (pbrt-v4's rule, also Mitsuba 3's `volpath`).
 
 use super::Scene;
+use crate::error::{Error, Result};
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::medium::{Boundary, Medium, MediumId};
 use crate::sampling::Sampler;
@@ -16,6 +17,10 @@ use super::Hit;
 /// How many invisible boundaries one ray may cross before it is taken as lost: a bound on
 /// the work of a ray that grazes along a boundary's seam.
 pub const MAX_CROSSINGS: u32 = 64;
+
+/// Why a scene with media does not render spectrally (yet).
+pub const SPECTRAL_AND_MEDIA: &str =
+    "spectral rendering does not take participating media yet (render the scene in RGB)";
 
 /// What a ray meets next.
 #[derive(Clone, Copy, Debug)]
@@ -62,6 +67,15 @@ impl Scene {
 
     pub fn media(&self) -> &[Medium] {
         &self.media
+    }
+
+    /// Refuse what spectral rendering cannot render yet: participating media (their
+    /// coefficients are read in RGB).
+    pub fn check_spectral(&self, spectral: bool) -> Result<()> {
+        if spectral && !self.media.is_empty() {
+            return Err(Error::InvalidScene(SPECTRAL_AND_MEDIA.into()));
+        }
+        Ok(())
     }
 
     /// The hero channel a path draws its distances with (see [`crate::medium`]): drawn from
