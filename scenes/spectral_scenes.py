@@ -34,10 +34,8 @@ right=norm(cross(out,[0,1,0]))
 wall=[add(add(centre, mul(right,s)), [0,tt,0]) for s,tt in [(-1.2,-0.5),(1.2,-0.5),(1.2,1.0),(-1.2,1.0)]]
 # Raise everything so the beam runs at y = 0.
 light=sub(entry, mul(d,3.0))
-cam=add(add(ex, mul(out,0.2)), add(mul(right, 1.6), [0,0.7,0]))
-cam=add(cam, mul(out,-0.9))
-look=add(centre, mul(out,-0.55))
-look=add(look,[0,-0.05,0])
+cam=add(add(ex, mul(out, -1.1)), add([0, 0.75, 0], mul(right, 0.45)))
+look=add(centre, [0, -0.1, 0])
 prism=f"""# A prism of N-SF11 (a dense flint glass) throws the rainbow of a narrow white beam on a wall.
 # Spectral rendering only: in RGB the beam stays white.
 #   photon render scenes/prism.toml --spectral --integrator sppm --time 60 -o prism.png
@@ -91,12 +89,12 @@ type = "spot"
 position = {f(light)}
 look_at = {f(entry)}
 power = 2.0
-angle = 0.6
-falloff = 0.1
+angle = 0.25
+falloff = 0.05
 
 [[lights]]
 type = "environment"
-radiance = 0.01
+radiance = 0.04
 """
 open(sys.argv[1] + "/prism.toml","w").write(prism)
 

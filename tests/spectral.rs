@@ -210,6 +210,11 @@ fn a_prism_bends_each_wavelength_as_snell_and_sellmeier_say() {
         );
         let (exit, out) = analytic_exit(lambda_nm);
         let angle = ray.dir.dot(out).clamp(-1.0, 1.0).acos().to_degrees();
+        eprintln!(
+            "{lambda_nm} nm: deviation {:.4}° (Snell: {:.4}°), {angle:.5}° apart",
+            dir.dot(ray.dir).clamp(-1.0, 1.0).acos().to_degrees(),
+            dir.dot(out).clamp(-1.0, 1.0).acos().to_degrees()
+        );
         assert!(
             angle < 0.01,
             "{lambda_nm} nm leaves at {:?}, Snell says {out:?} ({angle}° apart)",
@@ -320,6 +325,7 @@ fn the_rainbow_of_a_prism_lies_where_the_formula_puts_it() {
     );
     let measured = column_centroids(&img);
     let predicted = predicted_centroids(w, h);
+    eprintln!("channel centroids: measured {measured:?}, predicted {predicted:?}");
     let (c450, c650) = (predicted_column(450.0, w, h), predicted_column(650.0, w, h));
     assert!(
         (c450 - c650).abs() > 15.0,
