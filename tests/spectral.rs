@@ -325,8 +325,10 @@ fn the_rainbow_of_a_prism_lies_where_the_formula_puts_it() {
     );
     let measured = column_centroids(&img);
     let predicted = predicted_centroids(w, h);
-    eprintln!("channel centroids: measured {measured:?}, predicted {predicted:?}");
     let (c450, c650) = (predicted_column(450.0, w, h), predicted_column(650.0, w, h));
+    eprintln!(
+        "channel centroids: measured {measured:?}, predicted {predicted:?}; 450 nm at {c450}, 650 nm at {c650}"
+    );
     assert!(
         (c450 - c650).abs() > 15.0,
         "the spread 450–650 nm covers {} columns",
