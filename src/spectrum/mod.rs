@@ -249,7 +249,9 @@ impl Wavelengths {
     /// direction depend on λ (pbrt-v4's `SampledWavelengths::TerminateSecondary`): the
     /// secondary densities become 0 and the hero's is divided by 3, so that the estimator of
     /// [`Wavelengths::to_xyz`] (which averages over all three slots) stays unbiased.
-    /// Doing it twice changes nothing.
+    /// Doing it twice changes nothing. (The integrators use the equivalent form on values,
+    /// [`Lambda::keep_hero_only`], which lets the branches of one camera path, and a photon
+    /// meeting a visible point, each convert with the wavelengths they were drawn with.)
     pub fn terminate_secondary(&mut self) {
         if self.secondary_terminated() {
             return;
