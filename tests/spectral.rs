@@ -163,14 +163,13 @@ falloff = 0.0
 /// visible spectrum.
 const FOV_Y_DEG: f32 = 8.578;
 
+use common::media::scene;
+
+/// The description `toml` gives (its `[render]` table is what [`render`] starts from).
 fn desc(toml: &str) -> photon::description::SceneDesc {
     let here = std::path::Path::new(".");
     photon::description::toml_read::read_str(toml, &here.join("scene.toml"), here)
         .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn scene(toml: &str) -> Scene {
-    photon::description::build::build(&desc(toml)).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
