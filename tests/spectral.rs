@@ -5,6 +5,8 @@
 
 mod common;
 
+use common::media::scene;
+
 use photon::film::Image;
 use photon::integrator::{Integrator, PathConfig, RayStats};
 use photon::material::{Dispersion, TransportMode};
@@ -162,8 +164,6 @@ falloff = 0.0
 /// The camera's vertical field of view: 0.6 × 0.15 of the screen at 64 × 16, the whole
 /// visible spectrum.
 const FOV_Y_DEG: f32 = 8.578;
-
-use common::media::scene;
 
 /// The description `toml` gives (its `[render]` table is what [`render`] starts from).
 fn desc(toml: &str) -> photon::description::SceneDesc {
