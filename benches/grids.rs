@@ -121,7 +121,13 @@ fn main() {
                 let ray = random_ray(&mut rays_rng);
                 scattered += u64::from(
                     medium
-                        .sample_free_flight(&ray, 10.0, (i % 3) as usize, &mut s)
+                        .sample_free_flight(
+                            medium.coefficients(),
+                            &ray,
+                            10.0,
+                            (i % 3) as usize,
+                            &mut s,
+                        )
                         .scattered,
                 );
             }
@@ -137,7 +143,12 @@ fn main() {
             let start = Instant::now();
             let mut sum = Rgb::ZERO;
             for _ in 0..rays {
-                sum += medium.transmittance(&random_ray(&mut rays_rng), 10.0, &mut s);
+                sum += medium.transmittance(
+                    medium.coefficients(),
+                    &random_ray(&mut rays_rng),
+                    10.0,
+                    &mut s,
+                );
             }
             std::hint::black_box(sum);
             (rays as f64 / start.elapsed().as_secs_f64(), s.drawn)

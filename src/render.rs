@@ -164,7 +164,6 @@ pub fn render_samples_cancellable(
     cancel: &AtomicBool,
 ) -> Result<RenderOutput> {
     settings.validate()?;
-    scene.check_spectral(settings.spectral)?;
     if range.is_empty() || range.end > settings.spp {
         return Err(Error::InvalidSetting(format!(
             "samples {}..{} are not a part of 0..{}",

@@ -135,17 +135,12 @@ impl<'s> RenderJob<'s> {
                 "must be at least 1 (or gather none)",
             );
         }
-        if options.spectral == Some(true) {
-            if !scene.media().is_empty() {
-                return needs("spectral", None, crate::scene::SPECTRAL_AND_MEDIA);
-            }
-            if options.per_channel == Some(true) {
-                return needs(
-                    "spectral",
-                    None,
-                    "per_channel photons are an RGB mode; leave one of them out",
-                );
-            }
+        if options.spectral == Some(true) && options.per_channel == Some(true) {
+            return needs(
+                "spectral",
+                None,
+                "per_channel photons are an RGB mode; leave one of them out",
+            );
         }
         let (w, h) = scene.default_resolution;
         options.width = options.width.or(Some(w));

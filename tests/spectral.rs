@@ -380,62 +380,96 @@ fn values(scene: &Scene, ray: &Ray, lambda: Lambda, samples: u32) -> Rgb {
     sum / samples as f32
 }
 
-#[test]
-fn a_white_furnace_stays_at_most_one_at_every_wavelength() {
-    // Inside a uniform white sky: a white diffuse sphere and a dispersive diamond, both
-    // lossless. What comes back, over what the sky sends, is 1 at every wavelength (the
-    // light that enters the diamond leaves it), and never more.
-    let toml = r#"
+/// What comes back along rays from (0, 0, 4) toward each target, over what a uniform white
+/// sky around the scene of `shapes` sends, checked to be 1 at every wavelength. `hero_only`:
+/// the paths toward the targets meet a dispersive glass, after which the hero goes on alone
+/// (its value tripled, the others zero).
+fn check_furnace(shapes: &str, targets: &[(&str, Vec3)], hero_only: bool, samples: u32) {
+    let toml = format!(
+        r#"
 [camera]
 position = [0.0, 0.0, 4.0]
 look_at = [0.0, 0.0, 0.0]
 fov = 40
 
+{shapes}
+
+[[lights]]
+type = "environment"
+radiance = 1.0
+"#
+    );
+    let scene = scene(&toml);
+    for lambda_nm in (380..=780).step_by(50).map(|l| l as f32) {
+        let lambda = hero(lambda_nm);
+        let sky = lambda.illuminant(Rgb::ONE);
+        for &(what, target) in targets {
+            let origin = Vec3::new(0.0, 0.0, 4.0);
+            let ray = Ray::new(origin, (target - origin).normalize());
+            let ratio = values(&scene, &ray, lambda, samples) / sky;
+            let measured = if hero_only {
+                vec![ratio.x / 3.0]
+            } else {
+                ratio.to_array().to_vec()
+            };
+            for m in measured {
+                assert!(
+                    (m - 1.0).abs() < 0.02,
+                    "{lambda_nm} nm at {what}: {ratio:?} of the sky"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_white_furnace_stays_at_most_one_at_every_wavelength() {
+    // Lossless things inside a uniform white sky: what comes back is what the sky sends, at
+    // every wavelength, and never more. A white diffuse sphere and a dispersive diamond (the
+    // light that enters it leaves it)...
+    let white = r#"
 [materials.white]
 type = "diffuse"
 albedo = 1.0
-
-[materials.gem]
-type = "glass"
-glass = "diamond"
 
 [[shapes]]
 type = "sphere"
 center = [-0.6, 0.0, 0.0]
 radius = 0.5
 material = "white"
+"#;
+    let diamond = r#"
+[materials.gem]
+type = "glass"
+glass = "diamond"
 
 [[shapes]]
 type = "sphere"
 center = [0.6, 0.0, 0.0]
 radius = 0.5
 material = "gem"
-
-[[lights]]
-type = "environment"
-radiance = 1.0
 "#;
-    let scene = scene(toml);
-    for lambda_nm in (380..=780).step_by(50).map(|l| l as f32) {
-        let lambda = hero(lambda_nm);
-        let sky = lambda.illuminant(Rgb::ONE);
-        for target in [Vec3::new(-0.6, 0.1, 0.0), Vec3::new(0.65, -0.1, 0.0)] {
-            let origin = Vec3::new(0.0, 0.0, 4.0);
-            let ray = Ray::new(origin, (target - origin).normalize());
-            let ratio = values(&scene, &ray, lambda, 4000) / sky;
-            // The hero alone after the diamond (its value tripled, the others zero); the
-            // sphere's path keeps all three.
-            let measured = if target.x > 0.0 {
-                ratio.x / 3.0
-            } else {
-                ratio.max_element()
-            };
-            assert!(
-                (measured - 1.0).abs() < 0.02,
-                "{lambda_nm} nm at {target:?}: {ratio:?} of the sky"
-            );
-        }
-    }
+    let sphere = ("the white sphere", Vec3::new(-0.6, 0.1, 0.0));
+    check_furnace(&format!("{white}{diamond}"), &[sphere], false, 4000);
+    let gem = ("the diamond", Vec3::new(0.65, -0.1, 0.0));
+    check_furnace(&format!("{white}{diamond}"), &[gem], true, 4000);
+    // ... and a ball of fog that scatters without absorbing, its σs strongly coloured (0.5
+    // to 8 per unit: a different free path at each wavelength, drawn with one wavelength's).
+    // Beside the diamond, paths through the fog that meet it would leave their hero alone.
+    let fog = r#"
+[media.fog]
+sigma_a = 0.0
+sigma_s = [0.5, 2.0, 8.0]
+g = 0.3
+
+[[shapes]]
+type = "sphere"
+center = [0.6, 0.0, 0.0]
+radius = 0.4
+interior = "fog"
+"#;
+    let ball = ("the fog", Vec3::new(0.6, 0.05, 0.0));
+    check_furnace(&format!("{white}{fog}"), &[ball], false, 64000);
 }
 
 /// CIE 1931 chromaticity (x, y) of the image's mean colour.

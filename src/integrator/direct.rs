@@ -99,7 +99,7 @@ struct Branch {
 /// The light along `ray`. In a medium, a distance is sampled: light scattered once toward
 /// the camera at that point (single scattering), or the surface beyond.
 fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk) -> Rgb {
-    let step = scene.next_interaction(ray, at.medium, walk.hero, &mut *walk.rng);
+    let step = scene.next_interaction(ray, at.medium, (walk.hero, &at.lambda), &mut *walk.rng);
     walk.stats.bounce += u64::from(step.crossings);
     if step.weight == Rgb::ZERO {
         return Rgb::ZERO;

@@ -65,7 +65,7 @@ fn visibility(scene: &Scene, sp: &ShadingPoint, ls: &LightSample, rng: &mut impl
     let origin = offset_origin(hit.p, hit.ng, ls.wi);
     if scene.has_media() {
         let medium = scene.medium_after(hit, sp.medium, ls.wi);
-        return scene.transmittance(origin, light_end(ls, origin), medium, rng);
+        return scene.transmittance(origin, light_end(ls, origin), medium, &sp.lambda, rng);
     }
     let free = if ls.is_delta {
         !scene.occluded(origin, ls.wi, (ls.point - origin).length())
@@ -110,7 +110,8 @@ fn in_scattered(
         return (Rgb::ZERO, phase);
     }
     stats.shadow += 1;
-    let tr = scene.transmittance(mp.p, light_end(ls, mp.p), Some(mp.medium), rng);
+    let end = light_end(ls, mp.p);
+    let tr = scene.transmittance(mp.p, end, Some(mp.medium), &mp.lambda, rng);
     (tr * ls.radiance * (phase / ls.pdf), phase)
 }
 

@@ -56,7 +56,7 @@ pub(super) fn radiance(
         if depth > 0 {
             stats.bounce += 1;
         }
-        let step = scene.next_interaction(&ray, medium, hero, rng);
+        let step = scene.next_interaction(&ray, medium, (hero, lambda), rng);
         stats.bounce += u64::from(step.crossings);
         beta *= step.weight;
         ratio *= step.ratio;

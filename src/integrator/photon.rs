@@ -225,7 +225,7 @@ impl PhotonIntegrator {
         stats: &mut RayStats,
     ) -> Sample {
         let light_samples = self.settings.light_samples;
-        let passage = self.through_media(scene, ray, at.medium, rng, stats);
+        let passage = self.through_media(scene, ray, at.medium, &at.lambda, rng, stats);
         let mut out = match passage.hit {
             None => Sample {
                 direct: escaped_radiance(
@@ -492,7 +492,7 @@ impl PhotonIntegrator {
         stats: &mut RayStats,
     ) -> Rgb {
         stats.bounce += 1;
-        let passage = self.through_media(scene, ray, medium, rng, stats);
+        let passage = self.through_media(scene, ray, medium, &Lambda::Rgb, rng, stats);
         let Some(hit) = passage.hit else {
             return passage.in_scattered;
         };

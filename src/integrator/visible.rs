@@ -44,6 +44,9 @@ pub struct VolumePoint {
     pub beta: Rgb,
     /// Length of the path from the camera (for the pixel footprint).
     pub distance: f32,
+    /// Whether a dispersive glass on the way left the path its hero wavelength alone (see
+    /// [`Lambda::keep_hero_only`]).
+    pub hero_only: bool,
 }
 
 /// A camera path: emission seen through mirrors and glass plus direct light (next-event
@@ -95,7 +98,7 @@ pub fn trace_camera_path<S: Sampler>(
     let mut lambda = lambda;
     stats.camera += 1;
     for depth in 0..=max_depth {
-        let step = scene.next_interaction(&ray, medium, hero, rng);
+        let step = scene.next_interaction(&ray, medium, (hero, &lambda), rng);
         stats.bounce += u64::from(step.crossings);
         beta *= step.weight;
         ratio *= step.ratio;
@@ -123,6 +126,7 @@ pub fn trace_camera_path<S: Sampler>(
                     medium,
                     beta,
                     distance: distance + (p - ray.origin).length(),
+                    hero_only: lambda.is_hero_only(),
                 });
                 return out;
             }

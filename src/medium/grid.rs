@@ -14,7 +14,7 @@
 //! majorant's transmittance cancels from every ratio, which leaves σs/σt_hero at a scattering
 //! point and (μ − σt)/(μ − σt_hero) at a null collision.
 
-use super::{FreeFlight, HenyeyGreenstein};
+use super::{Coefficients, FreeFlight, HenyeyGreenstein};
 use crate::math::{Ray, Rgb, Vec3};
 use crate::sampling::Sampler;
 use glam::Affine3A;
@@ -178,8 +178,6 @@ pub struct GridMedium {
     majorants: Majorants,
     /// World to the grid's unit cube.
     world_to_unit: Affine3A,
-    /// The largest channel of σt per unit density: the grey majorant's scale.
-    sigma_t_max: f32,
 }
 
 impl GridMedium {
@@ -209,7 +207,6 @@ impl GridMedium {
             grid,
             majorants,
             world_to_unit,
-            sigma_t_max: (sigma_a + sigma_s).max_element(),
         })
     }
 
@@ -221,29 +218,34 @@ impl GridMedium {
         self.grid.at(self.world_to_unit.transform_point3(p))
     }
 
-    /// σs at the world point `p`.
-    pub fn sigma_s_at(&self, p: Vec3) -> Rgb {
-        self.sigma_s * self.density(p)
+    /// σa and σs per unit density, in RGB.
+    pub fn coefficients(&self) -> Coefficients {
+        Coefficients {
+            sigma_a: self.sigma_a,
+            sigma_s: self.sigma_s,
+        }
     }
 
     /// Sample the next event along the segment of `ray` up to `t_max` by delta tracking with
-    /// the `hero` channel's choices.
+    /// the `hero` channel's choices, the medium's coefficients per unit density at the path's
+    /// channels being `c` (see [`super::Medium::at`]).
     pub fn sample_free_flight(
         &self,
+        c: Coefficients,
         ray: &Ray,
         t_max: f32,
         hero: usize,
         sampler: &mut impl Sampler,
     ) -> FreeFlight {
         let hero = hero.min(2);
-        let sigma_t = self.sigma_a + self.sigma_s;
+        let sigma_t = c.sigma_t();
         let mut weight = Rgb::ONE;
         let mut ratio = Rgb::ONE;
         let mut scattered_at = None;
-        self.tentative_collisions(ray, t_max, sampler, |sampler, t, density, mu| {
+        self.tentative_collisions(c, ray, t_max, sampler, |sampler, t, density, mu| {
             let st = sigma_t * density;
             if sampler.next_f32() * mu < st[hero] {
-                weight *= self.sigma_s / sigma_t[hero];
+                weight *= c.sigma_s / sigma_t[hero];
                 ratio *= sigma_t / sigma_t[hero];
                 scattered_at = Some(t);
                 return false;
@@ -262,27 +264,34 @@ impl GridMedium {
     }
 
     /// An unbiased estimate of the transmittance along `ray` up to `t_max`, by ratio
-    /// tracking.
-    pub fn transmittance(&self, ray: &Ray, t_max: f32, sampler: &mut impl Sampler) -> Rgb {
+    /// tracking, at coefficients `c`.
+    pub fn transmittance(
+        &self,
+        c: Coefficients,
+        ray: &Ray,
+        t_max: f32,
+        sampler: &mut impl Sampler,
+    ) -> Rgb {
         let mut tr = Rgb::ONE;
-        self.ratio_track(ray, t_max, sampler, |_, estimate| tr = estimate);
+        self.ratio_track(c, ray, t_max, sampler, |_, estimate| tr = estimate);
         tr
     }
 
-    /// Ratio tracking along `ray` up to `t_max`, calling `step(t, Tr)` at each tentative
+    /// Ratio tracking along `ray` up to `t_max` at coefficients `c`, calling `step(t, Tr)` at each tentative
     /// collision with the estimate so far. The running product is an unbiased estimate of the
     /// transmittance to every distance at once (the collisions before t are those of a walk
     /// to t), so one walk serves a whole segment; it ends at zero when roulette stops it.
     pub fn ratio_track(
         &self,
+        c: Coefficients,
         ray: &Ray,
         t_max: f32,
         sampler: &mut impl Sampler,
         mut step: impl FnMut(f32, Rgb),
     ) {
-        let sigma_t = self.sigma_a + self.sigma_s;
+        let sigma_t = c.sigma_t();
         let mut tr = Rgb::ONE;
-        self.tentative_collisions(ray, t_max, sampler, |sampler, t, density, mu| {
+        self.tentative_collisions(c, ray, t_max, sampler, |sampler, t, density, mu| {
             tr *= Rgb::ONE - sigma_t * (density / mu);
             if tr.max_element() < ROULETTE_BELOW {
                 if sampler.next_f32() >= ROULETTE_SURVIVAL {
@@ -297,19 +306,21 @@ impl GridMedium {
     }
 
     /// The tentative collisions along `ray` up to `t_max`, in order: distances drawn from
-    /// each majorant cell's μ (the grey majorant of its largest density), calling
-    /// `visit(sampler, t, density, μ)` at each while it returns true. Cells whose majorant is
-    /// zero or not finite are passed.
+    /// each majorant cell's μ (the grey majorant of its largest density: times the largest
+    /// channel of σt in `c`), calling `visit(sampler, t, density, μ)` at each while it
+    /// returns true. Cells whose majorant is zero or not finite are passed.
     fn tentative_collisions<S: Sampler>(
         &self,
+        c: Coefficients,
         ray: &Ray,
         t_max: f32,
         sampler: &mut S,
         mut visit: impl FnMut(&mut S, f32, f32, f32) -> bool,
     ) {
         let (o, d) = self.to_unit(ray);
+        let sigma_t_max = c.sigma_t().max_element();
         self.for_each_cell(o, d, t_max, |t_enter, t_exit, max_density| {
-            let mu = max_density * self.sigma_t_max;
+            let mu = max_density * sigma_t_max;
             if !(mu > 0.0 && mu.is_finite()) {
                 return true;
             }
@@ -463,7 +474,7 @@ mod tests {
         let n = 40_000;
         let mut sum = Rgb::ZERO;
         for _ in 0..n {
-            sum += m.transmittance(&ray, 10.0, &mut rng);
+            sum += m.transmittance(m.coefficients(), &ray, 10.0, &mut rng);
         }
         let estimate = sum / n as f32;
         assert!(
@@ -481,7 +492,7 @@ mod tests {
         let n = 40_000;
         let (mut passed, mut scattered) = (Rgb::ZERO, Rgb::ZERO);
         for i in 0..n {
-            let f = m.sample_free_flight(&ray, 10.0, i % 3, &mut rng);
+            let f = m.sample_free_flight(m.coefficients(), &ray, 10.0, i % 3, &mut rng);
             let w = f.weight * super::super::spectral_mis(f.ratio);
             if f.scattered {
                 scattered += w;

@@ -21,6 +21,7 @@ pub use phase::{HenyeyGreenstein, PhaseSample};
 
 use crate::math::{Ray, Rgb, Vec3};
 use crate::sampling::Sampler;
+use crate::spectrum::Lambda;
 
 /// Index of a medium in the scene's list.
 pub type MediumId = u32;
@@ -62,18 +63,95 @@ impl Medium {
         }
     }
 
-    /// σs at the point `p` (which is in the medium).
-    pub fn sigma_s_at(&self, p: Vec3) -> Rgb {
-        match self {
-            Medium::Homogeneous(m) => m.sigma_s,
-            Medium::Grid(m) => m.sigma_s_at(p),
-        }
-    }
-
     /// Whether light can scatter in it (σs > 0 in some channel); a medium that only absorbs
     /// needs no sampled distances.
     pub fn scatters(&self) -> bool {
         self.coefficients().1.max_element() > 0.0
+    }
+
+    /// The medium as a path with the channels of `lambda` sees it: its coefficients at the
+    /// path's wavelengths in spectral rendering, as they are in RGB.
+    ///
+    /// A spectral path reads σt and the albedo σs/σt as reflectances: σt as its largest
+    /// channel times the smooth spectrum of σt over it, the albedo as the smooth spectrum of
+    /// its colour (Jakob and Hanika 2019; Mitsuba 3 reads a medium's `sigma_t` and `albedo`
+    /// so). The albedo then stays in [0, 1] at every wavelength, so σa ≥ 0 and no wavelength
+    /// scatters more than reaches it. Absorbing glass reads its σ the same way.
+    pub fn at(&self, lambda: &Lambda) -> MediumAt<'_> {
+        let (sigma_a, sigma_s) = self.coefficients();
+        let coefficients = if lambda.is_spectral() {
+            let sigma_t = sigma_a + sigma_s;
+            let max = sigma_t.max_element();
+            if max > 0.0 && max.is_finite() {
+                let albedo = Rgb::select(sigma_t.cmpgt(Rgb::ZERO), sigma_s / sigma_t, Rgb::ZERO);
+                let sigma_t = lambda.reflectance(sigma_t / max) * max;
+                let sigma_s = sigma_t * lambda.reflectance(albedo);
+                Coefficients {
+                    sigma_a: (sigma_t - sigma_s).max(Rgb::ZERO),
+                    sigma_s,
+                }
+            } else {
+                Coefficients {
+                    sigma_a: Rgb::ZERO,
+                    sigma_s: Rgb::ZERO,
+                }
+            }
+        } else {
+            Coefficients { sigma_a, sigma_s }
+        };
+        MediumAt {
+            medium: self,
+            coefficients,
+        }
+    }
+}
+
+/// σa and σs at a path's channels: per scene unit of length, or per unit of density on a
+/// grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coefficients {
+    pub sigma_a: Rgb,
+    pub sigma_s: Rgb,
+}
+
+impl Coefficients {
+    pub fn sigma_t(&self) -> Rgb {
+        self.sigma_a + self.sigma_s
+    }
+}
+
+/// A medium at a path's channels (see [`Medium::at`]): what sampling distances, estimating
+/// transmittance and weighing scattering read.
+#[derive(Clone, Copy, Debug)]
+pub struct MediumAt<'a> {
+    medium: &'a Medium,
+    coefficients: Coefficients,
+}
+
+impl MediumAt<'_> {
+    pub fn phase(&self) -> &HenyeyGreenstein {
+        self.medium.phase()
+    }
+
+    pub fn coefficients(&self) -> Coefficients {
+        self.coefficients
+    }
+
+    /// The homogeneous medium `m` with these coefficients.
+    fn homogeneous(&self, m: &Homogeneous) -> Homogeneous {
+        Homogeneous {
+            sigma_a: self.coefficients.sigma_a,
+            sigma_s: self.coefficients.sigma_s,
+            phase: m.phase,
+        }
+    }
+
+    /// σs at the point `p` (which is in the medium).
+    pub fn sigma_s_at(&self, p: Vec3) -> Rgb {
+        match self.medium {
+            Medium::Homogeneous(_) => self.coefficients.sigma_s,
+            Medium::Grid(m) => self.coefficients.sigma_s * m.density(p),
+        }
     }
 
     /// Sample the next event along `ray` up to `t_max` with the path's `hero` channel. A
@@ -85,18 +163,41 @@ impl Medium {
         hero: usize,
         sampler: &mut impl Sampler,
     ) -> FreeFlight {
-        match self {
-            Medium::Homogeneous(m) => m.sample_free_flight(t_max, hero, sampler.next_f32()),
-            Medium::Grid(m) => m.sample_free_flight(ray, t_max, hero, sampler),
+        match self.medium {
+            Medium::Homogeneous(m) => {
+                self.homogeneous(m)
+                    .sample_free_flight(t_max, hero, sampler.next_f32())
+            }
+            Medium::Grid(m) => m.sample_free_flight(self.coefficients, ray, t_max, hero, sampler),
         }
     }
 
     /// The transmittance along `ray` up to `t_max`: exact in a homogeneous medium (drawing
     /// nothing), an unbiased estimate on a grid.
     pub fn transmittance(&self, ray: &Ray, t_max: f32, sampler: &mut impl Sampler) -> Rgb {
-        match self {
-            Medium::Homogeneous(m) => m.transmittance(t_max),
-            Medium::Grid(m) => m.transmittance(ray, t_max, sampler),
+        match self.medium {
+            Medium::Homogeneous(m) => self.homogeneous(m).transmittance(t_max),
+            Medium::Grid(m) => m.transmittance(self.coefficients, ray, t_max, sampler),
+        }
+    }
+
+    /// The transmittance along `ray` to every distance up to `t_max` (see
+    /// [`TransmittanceProfile`]).
+    pub fn transmittance_profile(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        sampler: &mut impl Sampler,
+    ) -> TransmittanceProfile {
+        match self.medium {
+            Medium::Homogeneous(m) => TransmittanceProfile::Exact(self.homogeneous(m)),
+            Medium::Grid(m) => {
+                let mut steps = Vec::new();
+                m.ratio_track(self.coefficients, ray, t_max, sampler, |t, tr| {
+                    steps.push((t, tr))
+                });
+                TransmittanceProfile::Steps(steps)
+            }
         }
     }
 }
@@ -118,26 +219,6 @@ impl TransmittanceProfile {
             TransmittanceProfile::Steps(steps) => {
                 let before = steps.partition_point(|s| s.0 <= t);
                 before.checked_sub(1).map_or(Rgb::ONE, |i| steps[i].1)
-            }
-        }
-    }
-}
-
-impl Medium {
-    /// The transmittance along `ray` to every distance up to `t_max` (see
-    /// [`TransmittanceProfile`]).
-    pub fn transmittance_profile(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        sampler: &mut impl Sampler,
-    ) -> TransmittanceProfile {
-        match self {
-            Medium::Homogeneous(m) => TransmittanceProfile::Exact(m.clone()),
-            Medium::Grid(m) => {
-                let mut steps = Vec::new();
-                m.ratio_track(ray, t_max, sampler, |t, tr| steps.push((t, tr)));
-                TransmittanceProfile::Steps(steps)
             }
         }
     }

@@ -210,6 +210,7 @@ mod tests {
                 incoming: Vec3::Y,
                 power: Rgb::ONE,
                 medium: 0,
+                hero_only: false,
             })
             .collect();
         let map = VolumePhotonMap::build(&photons, 8, 0.2, 1.0);

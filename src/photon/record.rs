@@ -72,9 +72,25 @@ pub struct VolumePhoton {
     pub position: Vec3,
     /// Unit direction toward where the photon came from.
     pub incoming: Vec3,
-    /// Power relative to the pass's scale, over σs where it scattered (see `trace`).
+    /// Power relative to the pass's scale, over σs where it scattered (see `trace`): at
+    /// the pass's wavelengths in a spectral pass, else in RGB.
     pub power: Rgb,
     pub medium: MediumId,
+    /// Whether a dispersive glass on the way left the path its hero wavelength alone (see
+    /// [`crate::spectrum::Lambda::keep_hero_only`]).
+    pub hero_only: bool,
+}
+
+impl VolumePhoton {
+    /// The photon with its power as the RGB colour of the values at the path's channels
+    /// `lambda` (what the photon integrator keeps, each photon having wavelengths of its own).
+    pub fn to_rgb(self, lambda: &crate::spectrum::Lambda) -> Self {
+        Self {
+            power: lambda.to_rgb(self.power),
+            hero_only: false,
+            ..self
+        }
+    }
 }
 
 /// A progressive pass's photon, at full precision for the pass's own gathers (48 bytes, never

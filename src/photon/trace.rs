@@ -253,7 +253,6 @@ pub fn trace_photons(
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<PhotonMaps> {
     config.validate()?;
-    scene.check_spectral(config.spectral)?;
     let lights = scene.lights();
     let channels: Vec<Channel> = if config.per_channel {
         vec![Channel::Red, Channel::Green, Channel::Blue]
@@ -302,7 +301,10 @@ pub fn trace_photons(
                     let lambda = Lambda::draw(config.spectral, &mut rng);
                     trace_path(&ctx, emission, lambda, &mut rng, &mut |v| match v.medium {
                         None => store(v, channel, store_global, &mut out),
-                        Some(m) if store_global => out.volume.push(volume_photon(scene, v, m)),
+                        Some(m) if store_global => {
+                            out.volume
+                                .push(volume_photon(scene, v, m).to_rgb(&v.lambda));
+                        }
                         Some(_) => {}
                     });
                 }
@@ -390,7 +392,7 @@ struct PathContext<'a> {
 /// within the ball; dividing the sum by σs at the centre instead weights the photons by the
 /// centre's density (Jensen and Christensen 1998 write it for homogeneous media).
 fn volume_photon(scene: &Scene, v: &PathVertex, medium: MediumId) -> VolumePhoton {
-    let sigma_s = scene.medium(medium).sigma_s_at(v.p);
+    let sigma_s = scene.medium(medium).at(&v.lambda).sigma_s_at(v.p);
     let channel = |p: f32, s: f32| if s > 0.0 { p / s } else { 0.0 };
     VolumePhoton {
         position: v.p,
@@ -401,6 +403,7 @@ fn volume_photon(scene: &Scene, v: &PathVertex, medium: MediumId) -> VolumePhoto
             channel(v.power.z, sigma_s.z),
         ),
         medium,
+        hero_only: v.lambda.is_hero_only(),
     }
 }
 
@@ -447,7 +450,7 @@ fn trace_path(
     };
     let mut ratio = Rgb::ONE;
     for depth in 1..=ctx.max_depth {
-        let step = scene.next_interaction(&ray, medium, hero, rng);
+        let step = scene.next_interaction(&ray, medium, (hero, &lambda), rng);
         power *= step.weight;
         ratio *= step.ratio;
         let mis = match ctx.channel.index() {

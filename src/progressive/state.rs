@@ -169,7 +169,6 @@ pub struct PassSeconds {
 impl ProgressiveState {
     pub fn new(scene: &Scene, config: ProgressiveConfig, first_pass: u64) -> Result<Self> {
         config.validate()?;
-        scene.check_spectral(config.spectral)?;
         let n = config.width as usize * config.height as usize;
         Ok(Self {
             scene_name: scene.name.clone(),
@@ -574,7 +573,8 @@ fn gather_volume(
         let mut sum = Rgb::ZERO;
         grid.for_each_within(v.vp.p, v.r, scratch, &mut |ph, _| {
             if ph.medium == v.vp.medium {
-                sum += ph.power * medium.phase().eval(v.vp.wo, ph.incoming);
+                let once = hero_tripled_once(v.vp.hero_only, ph.hero_only);
+                sum += ph.power * (medium.phase().eval(v.vp.wo, ph.incoming) * once);
             }
         });
         let volume = 4.0 / 3.0 * PI * f64::from(v.r).powi(3);
@@ -631,18 +631,22 @@ fn photon_flux(
             let f = vp
                 .material
                 .eval_part(vp.wo_local, wi, TransportMode::Radiance, Part::Rough);
-            // Both sides hero-only: the path's hero was tripled twice, once too many (see
-            // `Lambda::keep_hero_only`).
-            let once = if vp.hero_only && ph.hero_only {
-                1.0 / 3.0
-            } else {
-                1.0
-            };
-            sum += f * ph.power * once;
+            sum += f * ph.power * hero_tripled_once(vp.hero_only, ph.hero_only);
             count += 1;
         }
     });
     (sum, count)
+}
+
+/// The factor for the product of a camera path's and a photon's values: 1/3 where both went
+/// on with their hero alone, whose value each side tripled (see `Lambda::keep_hero_only`),
+/// once too many.
+fn hero_tripled_once(camera_hero_only: bool, photon_hero_only: bool) -> f32 {
+    if camera_hero_only && photon_hero_only {
+        1.0 / 3.0
+    } else {
+        1.0
+    }
 }
 
 /// The pass's light at its wavelengths, as RGB: every slot's direct light and gathered

@@ -7,20 +7,16 @@
 //! and any other surface leaves it where it was (pbrt-v4's rule, also Mitsuba 3's `volpath`).
 
 use super::Scene;
-use crate::error::{Error, Result};
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::medium::{Boundary, Medium, MediumId};
 use crate::sampling::Sampler;
+use crate::spectrum::Lambda;
 
 use super::Hit;
 
 /// How many invisible boundaries one ray may cross before it is taken as lost: a bound on
 /// the work of a ray that grazes along a boundary's seam.
 pub const MAX_CROSSINGS: u32 = 64;
-
-/// Why a scene with media does not render spectrally (yet).
-pub const SPECTRAL_AND_MEDIA: &str =
-    "spectral rendering does not take participating media yet (render the scene in RGB)";
 
 /// What a ray meets next.
 #[derive(Clone, Copy, Debug)]
@@ -69,15 +65,6 @@ impl Scene {
         &self.media
     }
 
-    /// Refuse what spectral rendering cannot render yet: participating media (their
-    /// coefficients are read in RGB).
-    pub fn check_spectral(&self, spectral: bool) -> Result<()> {
-        if spectral && !self.media.is_empty() {
-            return Err(Error::InvalidScene(SPECTRAL_AND_MEDIA.into()));
-        }
-        Ok(())
-    }
-
     /// The hero channel a path draws its distances with (see [`crate::medium`]): drawn from
     /// `sampler` in a scene with media; channel 0, drawing nothing, in one without, so that
     /// its paths use the random numbers they always did.
@@ -115,13 +102,14 @@ impl Scene {
     }
 
     /// The next interaction along `ray`, which starts in `medium`: a distance is sampled in
-    /// each medium crossed with the path's `hero` channel (media that only absorb take their
-    /// transmittance instead), and invisible boundaries are crossed.
+    /// each medium crossed, at the path's channels `lambda`, with its `hero` channel (media
+    /// that only absorb take their transmittance instead), and invisible boundaries are
+    /// crossed.
     pub fn next_interaction(
         &self,
         ray: &Ray,
         mut medium: Option<MediumId>,
-        hero: usize,
+        (hero, lambda): (usize, &Lambda),
         sampler: &mut impl Sampler,
     ) -> Step {
         let mut weight = Rgb::ONE;
@@ -130,9 +118,9 @@ impl Scene {
         for crossings in 0..=MAX_CROSSINGS {
             let hit = self.intersect(&ray, f32::INFINITY);
             if let Some(id) = medium {
-                let m = self.medium(id);
+                let m = self.medium(id).at(lambda);
                 let t_max = hit.map_or(f32::INFINITY, |h| h.t);
-                if m.scatters() {
+                if self.medium(id).scatters() {
                     let flight = m.sample_free_flight(&ray, t_max, hero, sampler);
                     weight *= flight.weight;
                     ratio *= flight.ratio;
@@ -180,12 +168,14 @@ impl Scene {
 
     /// The fraction of light that travels from `origin`, in `medium`, to `target`: zero if a
     /// surface is in the way, else the product of the media's transmittances over the
-    /// segments between the invisible boundaries crossed (estimated with `sampler` in grids).
+    /// segments between the invisible boundaries crossed (estimated with `sampler` in grids),
+    /// at the path's channels `lambda`.
     pub fn transmittance(
         &self,
         origin: Vec3,
         target: Vec3,
         mut medium: Option<MediumId>,
+        lambda: &Lambda,
         sampler: &mut impl Sampler,
     ) -> Rgb {
         let mut tr = Rgb::ONE;
@@ -200,7 +190,10 @@ impl Scene {
             let hit = self.intersect(&ray, dist);
             let travelled = hit.map_or(dist, |h| h.t);
             if let Some(id) = medium {
-                tr *= self.medium(id).transmittance(&ray, travelled, sampler);
+                tr *= self
+                    .medium(id)
+                    .at(lambda)
+                    .transmittance(&ray, travelled, sampler);
             }
             match hit {
                 None => return tr,

@@ -5,22 +5,25 @@
 use super::PhotonIntegrator;
 use crate::integrator::RayStats;
 use crate::math::{Ray, Rgb, offset_origin};
-use crate::medium::{MediumId, TransmittanceProfile};
+use crate::medium::{MediumAt, MediumId, TransmittanceProfile};
 use crate::photon::Kernel;
 use crate::photon::beam::VolumePhotonMap;
 use crate::sampling::Rng;
 use crate::scene::{MAX_CROSSINGS, Scene};
+use crate::spectrum::Lambda;
 
 impl PhotonIntegrator {
     /// Follow `ray`, which starts in `medium`, to the first surface that is there, crossing
     /// invisible boundaries: the transmittance to it and the light the media along the way
     /// scatter toward the ray's origin, by the beam radiance estimate over each segment in a
-    /// medium. Without media: the closest hit, transmittance one, nothing drawn.
+    /// medium, at the path's channels `lambda`. Without media: the closest hit, transmittance
+    /// one, nothing drawn.
     pub(super) fn through_media(
         &self,
         scene: &Scene,
         ray: &Ray,
         mut medium: Option<MediumId>,
+        lambda: &Lambda,
         rng: &mut Rng,
         stats: &mut RayStats,
     ) -> Passage {
@@ -37,12 +40,20 @@ impl PhotonIntegrator {
         for _ in 0..=MAX_CROSSINGS {
             let t_max = passage.hit.map_or(f32::INFINITY, |h| h.t);
             if let Some(id) = medium {
-                let m = scene.medium(id);
+                let m = scene.medium(id).at(lambda);
                 let profile = m.transmittance_profile(&ray, t_max, rng);
-                if let Some(map) = self.volume.as_deref().filter(|_| m.scatters()) {
+                let scatters = scene.medium(id).scatters();
+                if let Some(map) = self.volume.as_deref().filter(|_| scatters) {
                     let kernel = self.settings.global.kernel;
-                    passage.in_scattered += passage.transmittance
-                        * beam_estimate(scene, map, &ray, (t_max, id), &profile, kernel);
+                    let segment = Segment {
+                        ray: &ray,
+                        t_max,
+                        id,
+                        medium: &m,
+                        profile: &profile,
+                    };
+                    passage.in_scattered +=
+                        passage.transmittance * beam_estimate(map, &segment, kernel, lambda);
                 }
                 passage.transmittance *= profile.at(t_max);
             }
@@ -72,32 +83,35 @@ pub(super) struct Passage {
     pub in_scattered: Rgb,
 }
 
-/// The beam radiance estimate over the segment of `ray` up to `t_max` in medium `id`
-/// (Jarosz et al. 2008): Σ K(d) σs(x) p(wo, wi) Φ/σs Tr(t) over the photons of that medium
-/// whose spheres the segment passes, x the point of the ray nearest the photon, at distance
-/// t and d from it, with the 2D kernel K normalised on the disc of each photon's radius (the
-/// global map's kernel). Photon powers are stored over σs where they scattered (see
-/// `photon::trace`).
-fn beam_estimate(
-    scene: &Scene,
-    map: &VolumePhotonMap,
-    ray: &Ray,
-    (t_max, id): (f32, MediumId),
-    profile: &TransmittanceProfile,
-    kernel: Kernel,
-) -> Rgb {
-    let medium = scene.medium(id);
+/// A ray's segment in one medium: up to `t_max`, in medium `id` (seen at the path's
+/// channels), with the transmittance along it.
+struct Segment<'a> {
+    ray: &'a Ray,
+    t_max: f32,
+    id: MediumId,
+    medium: &'a MediumAt<'a>,
+    profile: &'a TransmittanceProfile,
+}
+
+/// The beam radiance estimate over a segment (Jarosz et al. 2008): Σ K(d) σs(x) p(wo, wi)
+/// Φ/σs Tr(t) over the photons of its medium whose spheres the segment passes, x the point
+/// of the ray nearest the photon, at distance t and d from it, with the 2D kernel K
+/// normalised on the disc of each photon's radius (the global map's kernel). Photon powers
+/// are stored over σs where they scattered (see `photon::trace`), in RGB: a spectral path
+/// reads each as light (as it reads the surface maps' estimates).
+fn beam_estimate(map: &VolumePhotonMap, segment: &Segment, kernel: Kernel, lambda: &Lambda) -> Rgb {
+    let (ray, medium) = (segment.ray, segment.medium);
     let wo = -ray.dir;
     let mut sum = Rgb::ZERO;
-    map.for_each_along(ray, 0.0, t_max, &mut |p, t, d2| {
-        if p.medium != id {
+    map.for_each_along(ray, 0.0, segment.t_max, &mut |p, t, d2| {
+        if p.medium != segment.id {
             return;
         }
         let x = ray.at(t);
         let weight = kernel.weight(d2, p.radius * p.radius);
-        sum += p.power
+        sum += lambda.illuminant(p.power)
             * medium.sigma_s_at(x)
-            * profile.at(t)
+            * segment.profile.at(t)
             * (weight * medium.phase().eval(wo, p.incoming));
     });
     sum * map.power_scale
