@@ -47,6 +47,93 @@ fn renders_every_format_and_compares() {
     assert!(leftovers.is_empty());
 }
 
+/// The channels of an EXR's first layer, by name, and its header's chromaticities.
+fn exr_channels(path: &std::path::Path) -> (Vec<(String, Vec<f32>)>, Option<[f32; 8]>) {
+    let image = exr::prelude::read_first_flat_layer_from_file(path).expect("a readable EXR");
+    let channels = image
+        .layer_data
+        .channel_data
+        .list
+        .iter()
+        .map(|c| {
+            let values = c.sample_data.values_as_f32().collect();
+            (c.name.to_string(), values)
+        })
+        .collect();
+    let chromaticities = image.attributes.chromaticities.map(|c| {
+        [
+            c.red.0, c.red.1, c.green.0, c.green.1, c.blue.0, c.blue.1, c.white.0, c.white.1,
+        ]
+    });
+    (channels, chromaticities)
+}
+
+#[test]
+fn xyz_output_is_the_same_light_in_cie_xyz() {
+    let dir = common::temp_dir("xyz");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "cornell",
+            "--spectral",
+            "--integrator",
+            "sppm",
+            "--passes",
+            "2",
+            "--photons-per-pass",
+            "4000",
+            "--width",
+            "12",
+            "--height",
+            "10",
+            "-q",
+        ];
+        args.extend(extra);
+        let o = photon(&args, &dir);
+        assert!(o.status.success(), "{extra:?}: {}", stderr(&o));
+    };
+    render(&["-o", "rgb.exr"]);
+    render(&["--xyz", "-o", "xyz.exr"]);
+    let (rgb, none) = exr_channels(&dir.join("rgb.exr"));
+    let (xyz, primaries) = exr_channels(&dir.join("xyz.exr"));
+    assert_eq!(
+        none, None,
+        "an RGB file keeps OpenEXR's default (Rec. 709) primaries"
+    );
+    let names = |c: &[(String, Vec<f32>)]| c.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&rgb), ["B", "G", "R"]);
+    assert_eq!(names(&xyz), ["X", "Y", "Z"]);
+    // OpenEXR's chromaticities of XYZ data.
+    assert_eq!(
+        primaries,
+        Some([1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0 / 3.0, 1.0 / 3.0])
+    );
+    // IEC 61966-2-1's matrix from linear sRGB to XYZ: Y is luminance. The walls are lit:
+    // the image is not black.
+    let (b, g, r) = (&rgb[0].1, &rgb[1].1, &rgb[2].1);
+    let (x, y, z) = (&xyz[0].1, &xyz[1].1, &xyz[2].1);
+    let mut lit = 0;
+    for i in 0..r.len() {
+        let expected = [
+            0.4124 * r[i] + 0.3576 * g[i] + 0.1805 * b[i],
+            0.2126 * r[i] + 0.7152 * g[i] + 0.0722 * b[i],
+            0.0193 * r[i] + 0.1192 * g[i] + 0.9505 * b[i],
+        ];
+        for (got, want) in [x[i], y[i], z[i]].into_iter().zip(expected) {
+            assert!(
+                (got - want).abs() <= 1e-3 * want.abs().max(1e-3),
+                "pixel {i}: {got} vs {want}"
+            );
+        }
+        lit += usize::from(y[i] > 0.0);
+    }
+    assert!(lit > r.len() / 2, "{lit} lit pixels of {}", r.len());
+    // XYZ is written to OpenEXR only, and refused before rendering otherwise.
+    let o = photon(&["render", "cornell", "--xyz", "-o", "x.png"], &dir);
+    assert_usage_error(&o, "exr");
+    assert!(!dir.join("x.png").exists());
+}
+
 #[test]
 fn default_render_writes_render_png() {
     let dir = common::temp_dir("default");

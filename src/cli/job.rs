@@ -4,6 +4,7 @@
 
 use super::render::job_request;
 use anyhow::{Context, Result, bail};
+use photon::io::image::WriteAs;
 use photon::job::{self, Manifest, TaskState};
 use std::path::{Path, PathBuf};
 
@@ -343,7 +344,7 @@ fn merge(a: &MergeArgs) -> Result<()> {
     for e in merged.problems.iter().take(LISTED) {
         eprintln!("photon: {e}");
     }
-    photon::io::image::write_image(&merged.image, &a.output, a.exposure)?;
+    photon::io::image::write_image(&merged.image, &a.output, WriteAs::exposure(a.exposure))?;
     eprintln!(
         "photon: merged {} of {} tasks in {:.2} s: the image holds {} of {} {} → {}",
         merged.done,

@@ -4,7 +4,7 @@
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use photon::io::checkpoint::{self, EnvSettings, RunInfo};
-use photon::io::image::write_image;
+use photon::io::image::{ColorSpace, WriteAs, write_image};
 use photon::progressive::ProgressiveState;
 use photon::scene::Scene;
 use photon::session::{CHECKPOINT_EVERY, CheckpointPlan, Ending, Session, Totals};
@@ -21,7 +21,8 @@ pub struct Outputs {
     /// Keep the checkpoint when the render finishes.
     pub keep_checkpoint: bool,
     pub snapshots: bool,
-    pub exposure: f32,
+    /// The exposure of PNG output and the colour space of EXR output.
+    pub write_as: WriteAs,
     pub quiet: bool,
     /// A partial render (`--pass-range`): the state file is the output, no image.
     pub partial: bool,
@@ -98,7 +99,7 @@ pub fn run(
     let info = RunInfo {
         output: Some(std::path::absolute(&out.image).unwrap_or_else(|_| out.image.clone())),
         target_passes: budget.passes.or(out.target_passes),
-        exposure: Some(out.exposure),
+        exposure: Some(out.write_as.exposure),
         env: out.env.clone(),
     };
     let mut session = Session::new(state, budget)?;
@@ -124,7 +125,7 @@ pub fn run(
                 write_image(
                     &s.state().image(),
                     &snapshot_path(&out.image, passes),
-                    out.exposure,
+                    out.write_as,
                 )?;
             }
             Ok(())
@@ -142,7 +143,7 @@ pub fn run(
         if out.partial {
             checkpoint::save_with(state, &info, &out.image)?;
         } else {
-            write_image(&state.image(), &out.image, out.exposure)?;
+            write_image(&state.image(), &out.image, out.write_as)?;
         }
         Ok(())
     };
@@ -222,6 +223,7 @@ pub struct ResumeArgs<'a> {
     pub budget: Budget,
     pub output: Option<&'a Path>,
     pub exposure: f32,
+    pub space: ColorSpace,
     pub quiet: bool,
     /// Environment flags given again: they must be the run's.
     pub env: &'a super::EnvironmentArgs,
@@ -253,6 +255,7 @@ pub fn resume(path: &Path, args: &ResumeArgs, pool: &rayon::ThreadPool) -> Resul
         budget,
         output,
         exposure,
+        space,
         quiet,
         ..
     } = *args;
@@ -288,16 +291,20 @@ pub fn resume(path: &Path, args: &ResumeArgs, pool: &rayon::ThreadPool) -> Resul
         keep_checkpoint: true,
         snapshots: false,
         // An exposure given now wins; otherwise the run's own.
-        exposure: if exposure != 0.0 {
-            exposure
-        } else {
-            info.exposure.unwrap_or(0.0)
+        write_as: WriteAs {
+            exposure: if exposure != 0.0 {
+                exposure
+            } else {
+                info.exposure.unwrap_or(0.0)
+            },
+            space,
         },
         quiet,
         partial: false,
         env: info.env,
         target_passes: info.target_passes,
     };
+    out.write_as.check(&out.image)?;
     super::render::refuse_inputs(&out.image, Some(&out.checkpoint), &[], false, &files)?;
     run(&scene, state, budget, &out, pool)
 }
@@ -323,7 +330,7 @@ pub fn merge(a: &MergeArgs) -> Result<()> {
             .with_context(|| format!("merging '{}'", p.display()))?;
     }
     let image = merger.image().context("nothing to merge")?;
-    write_image(&image, &a.output, 0.0)?;
+    write_image(&image, &a.output, WriteAs::default())?;
     eprintln!(
         "photon: merged {} parts ({} passes or samples per pixel) → {}",
         a.parts.len(),

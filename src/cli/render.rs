@@ -4,7 +4,9 @@ use super::{progress, progressive};
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use photon::description::builtin::DEFAULT_SCENE;
-use photon::io::image::{ImageFormat, aov_path, check_writable, write_exr_layers, write_image};
+use photon::io::image::{
+    ColorSpace, ImageFormat, WriteAs, aov_path, write_exr_layers, write_image,
+};
 use photon::io::phm;
 use photon::render::RenderOutput;
 use photon::scene::Scene;
@@ -60,6 +62,11 @@ pub struct RenderArgs {
     /// Exposure in stops, applied to PNG output only.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, help_heading = OUTPUT)]
     exposure: f32,
+    /// Write the .exr in CIE 1931 XYZ (channels X, Y, Z) instead of linear sRGB (R, G, B):
+    /// the same light, a linear map of it, without the negative values that colours outside
+    /// the sRGB gamut (a spectral render's rainbow) take in RGB.
+    #[arg(long, help_heading = OUTPUT)]
+    xyz: bool,
     /// Extra images: any of direct, caustic, indirect (photon), albedo, normal (photon,
     /// direct, path), comma-separated; layers of the EXR output, or files NAME.AOV.EXT for
     /// other formats.
@@ -108,6 +115,21 @@ impl RenderArgs {
     fn options(&self) -> RenderOptions {
         self.settings.0.clone()
     }
+
+    fn color_space(&self) -> ColorSpace {
+        if self.xyz {
+            ColorSpace::Xyz
+        } else {
+            ColorSpace::LinearSrgb
+        }
+    }
+
+    fn write_as(&self) -> WriteAs {
+        WriteAs {
+            exposure: self.exposure,
+            space: self.color_space(),
+        }
+    }
 }
 
 /// Checks of the flags only the command line has; the settings are the library's to check.
@@ -145,7 +167,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             .map(|(_, f)| (*f).to_owned());
         if let Some(flag) = settings.chain(run_flags).next() {
             bail!(
-                "--resume goes on with the checkpoint's own settings: it takes --passes, --time, -o, --exposure, --threads, -q and the environment flags, not {flag}"
+                "--resume goes on with the checkpoint's own settings: it takes --passes, --time, -o, --exposure, --xyz, --threads, -q and the environment flags, not {flag}"
             );
         }
         let pool = super::thread_pool(a.threads)?;
@@ -156,6 +178,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             },
             output: a.output.as_deref(),
             exposure: a.exposure,
+            space: a.color_space(),
             quiet: a.quiet,
             env: &a.env,
         };
@@ -210,7 +233,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         photon::io::atomic::check_writable_path(&output)?;
         None
     } else {
-        Some(check_writable(&output)?)
+        Some(a.write_as().check(&output)?)
     };
     let aovs: Vec<&str> = if format == Some(ImageFormat::Exr) {
         Vec::new()
@@ -304,7 +327,7 @@ fn run_progressive(
         }
         photon::io::atomic::check_writable_path(&output)?;
     } else {
-        check_writable(&output)?;
+        a.write_as().check(&output)?;
     }
     // A checkpoint named is asked for: it is kept.
     let keep_checkpoint = a.keep_checkpoint || a.checkpoint.is_some();
@@ -363,7 +386,7 @@ fn run_progressive(
         keep_checkpoint,
         image: output,
         snapshots: a.snapshots,
-        exposure: a.exposure,
+        write_as: a.write_as(),
         quiet: a.quiet,
         partial,
         env: progressive::env_settings(&a.env),
@@ -464,12 +487,12 @@ fn write_outputs(
     if format == ImageFormat::Exr && !a.aov.is_empty() {
         let mut layers = vec![("beauty", &out.image)];
         layers.extend(a.aov.iter().map(|&x| (x.name(), aov_image(x))));
-        write_exr_layers(output, &layers)?;
+        write_exr_layers(output, &layers, a.color_space())?;
         return Ok(());
     }
-    write_image(&out.image, output, a.exposure)?;
+    write_image(&out.image, output, a.write_as())?;
     for &x in &a.aov {
-        write_image(aov_image(x), &aov_path(output, x.name()), a.exposure)?;
+        write_image(aov_image(x), &aov_path(output, x.name()), a.write_as())?;
     }
     Ok(())
 }

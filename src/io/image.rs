@@ -1,5 +1,5 @@
 //! Image files. The format follows the extension: `.png` (sRGB, exposure, clamped), `.exr`
-//! (linear float RGB), `.pfm` (linear float RGB). Every write goes to a temporary file in the
+//! (linear float RGB, or CIE 1931 XYZ on request), `.pfm` (linear float RGB). Every write goes to a temporary file in the
 //! destination folder and is renamed over the target only once complete, so an interrupted or
 //! failed write never destroys what the user had.
 
@@ -58,6 +58,44 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
     Ok(format)
 }
 
+/// The colour space a float image is written in. Renders are linear sRGB (Rec. 709 primaries,
+/// D65 white); XYZ is the same light in CIE 1931 XYZ, a linear map of it (Mitsuba 3's
+/// `pixel_format = "xyz"`), which keeps colours outside the sRGB gamut without negative values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ColorSpace {
+    #[default]
+    LinearSrgb,
+    Xyz,
+}
+
+/// How an image is written: the exposure a PNG takes, in stops, and the colour space of an
+/// EXR.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WriteAs {
+    pub exposure: f32,
+    pub space: ColorSpace,
+}
+
+impl WriteAs {
+    /// Linear sRGB, with `exposure` for PNG.
+    pub fn exposure(exposure: f32) -> Self {
+        Self {
+            exposure,
+            space: ColorSpace::LinearSrgb,
+        }
+    }
+
+    /// Check, before any work is done, that `path` can be written so: XYZ goes only to
+    /// OpenEXR, whose channels say what they hold.
+    pub fn check(&self, path: &Path) -> Result<ImageFormat> {
+        let format = check_writable(path)?;
+        if self.space == ColorSpace::Xyz && format != ImageFormat::Exr {
+            return Err(unsupported(path, "an .exr file for XYZ output"));
+        }
+        Ok(format)
+    }
+}
+
 /// `render.npy` → `render_r.npy` (and `_g`, `_b`).
 pub fn npy_channel_path(path: &Path, channel: &str) -> PathBuf {
     let stem = path
@@ -86,9 +124,11 @@ pub fn linear_to_srgb(x: f32) -> f32 {
     }
 }
 
-/// Write `image`; `exposure` (in stops) applies to PNG only, since float formats keep radiance.
-pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
-    let format = ImageFormat::from_path(path).ok_or_else(|| unsupported(path, WRITABLE))?;
+/// Write `image` as `how` says: the exposure applies to PNG only, since float formats keep
+/// radiance; XYZ only to EXR.
+pub fn write_image(image: &Image, path: &Path, how: WriteAs) -> Result<()> {
+    let format = how.check(path)?;
+    let exposure = how.exposure;
     let io_err = |source| Error::Write {
         path: path.to_owned(),
         source,
@@ -104,7 +144,7 @@ pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
             path: path.to_owned(),
             source: std::io::Error::other(e),
         }),
-        ImageFormat::Exr => write_exr(tmp, &[("", image)]).map_err(|e| Error::Write {
+        ImageFormat::Exr => write_exr(tmp, &[("", image)], how.space).map_err(|e| Error::Write {
             path: path.to_owned(),
             source: std::io::Error::other(e),
         }),
@@ -115,13 +155,13 @@ pub fn write_image(image: &Image, path: &Path, exposure: f32) -> Result<()> {
 
 /// Write a multi-layer OpenEXR the way Blender and compositors read it: one part whose plain
 /// `R`, `G`, `B` channels hold the first image (the beauty), and `NAME.R`, `NAME.G`, `NAME.B`
-/// for each further image (`direct.R`, …).
-pub fn write_exr_layers(path: &Path, layers: &[(&str, &Image)]) -> Result<()> {
+/// for each further image (`direct.R`, …); `X`, `Y`, `Z` for each in XYZ.
+pub fn write_exr_layers(path: &Path, layers: &[(&str, &Image)], space: ColorSpace) -> Result<()> {
     if layers.is_empty() {
         return Ok(());
     }
     write_atomically(path, |tmp| {
-        write_exr(tmp, layers).map_err(|e| crate::error::Error::Write {
+        write_exr(tmp, layers, space).map_err(|e| crate::error::Error::Write {
             path: path.to_owned(),
             source: std::io::Error::other(e),
         })
@@ -132,19 +172,33 @@ pub fn write_exr_layers(path: &Path, layers: &[(&str, &Image)]) -> Result<()> {
 /// increasing line order, compressed on one thread. On several threads the crate wrote the
 /// blocks as they finished, whatever line order was asked for: two identical renders of 256²
 /// and more gave different files with the same pixels. (A 512² EXR compresses in ~40 ms.)
-fn write_exr(path: &Path, layers: &[(&str, &Image)]) -> exr::error::UnitResult {
+/// In XYZ the channels are `X`, `Y`, `Z`, and the header's chromaticities are the XYZ space's
+/// (OpenEXR's convention for XYZ data: red (1, 0), green (0, 1), blue (0, 0), white ⅓, ⅓).
+fn write_exr(path: &Path, layers: &[(&str, &Image)], space: ColorSpace) -> exr::error::UnitResult {
     use exr::prelude::*;
     let first = layers[0].1;
     let size = (first.width as usize, first.height as usize);
+    let letters = match space {
+        ColorSpace::LinearSrgb => ["R", "G", "B"],
+        ColorSpace::Xyz => ["X", "Y", "Z"],
+    };
     let mut channels = Vec::new();
     for (k, (name, img)) in layers.iter().enumerate() {
-        for (c, letter) in ["R", "G", "B"].iter().enumerate() {
+        let pixels: Vec<Rgb> = match space {
+            ColorSpace::LinearSrgb => img.pixels.clone(),
+            ColorSpace::Xyz => img
+                .pixels
+                .iter()
+                .map(|&p| crate::spectrum::linear_srgb_to_xyz(p))
+                .collect(),
+        };
+        for (c, letter) in letters.iter().enumerate() {
             let full = if k == 0 {
                 (*letter).to_owned()
             } else {
                 format!("{name}.{letter}")
             };
-            let samples = FlatSamples::F32(img.pixels.iter().map(|p| p[c]).collect());
+            let samples = FlatSamples::F32(pixels.iter().map(|p| p[c]).collect());
             channels.push(AnyChannel::new(full.as_str(), samples));
         }
     }
@@ -158,10 +212,16 @@ fn write_exr(path: &Path, layers: &[(&str, &Image)]) -> exr::error::UnitResult {
         encoding,
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
-    exr::image::Image::from_layer(layer)
-        .write()
-        .non_parallel()
-        .to_file(path)
+    let mut image = exr::image::Image::from_layer(layer);
+    if space == ColorSpace::Xyz {
+        image.attributes.chromaticities = Some(attribute::Chromaticities {
+            red: Vec2(1.0, 0.0),
+            green: Vec2(0.0, 1.0),
+            blue: Vec2(0.0, 0.0),
+            white: Vec2(1.0 / 3.0, 1.0 / 3.0),
+        });
+    }
+    image.write().non_parallel().to_file(path)
 }
 
 /// NumPy `.npy` (format 1.0) of one channel: a height × width little-endian float32 array, as
