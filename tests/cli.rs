@@ -47,8 +47,11 @@ fn renders_every_format_and_compares() {
     assert!(leftovers.is_empty());
 }
 
-/// The channels of an EXR's first layer, by name, and its header's chromaticities.
-fn exr_channels(path: &std::path::Path) -> (Vec<(String, Vec<f32>)>, Option<[f32; 8]>) {
+/// An EXR's channels, by name, in the file's order.
+type Channels = Vec<(String, Vec<f32>)>;
+
+/// The channels of an EXR's first layer, and its header's chromaticities.
+fn exr_channels(path: &std::path::Path) -> (Channels, Option<[f32; 8]>) {
     let image = exr::prelude::read_first_flat_layer_from_file(path).expect("a readable EXR");
     let channels = image
         .layer_data
