@@ -76,7 +76,8 @@ fn render_job_gives_the_command_lines_image_byte_for_byte() {
     ] {
         let job = RenderJob::new(&scene, &loaded.desc.render, options).expect("job");
         let result = job.render(&|_| {}, &never).expect("renders");
-        photon::io::image::write_image(&result.image, &dir.join("job.pfm"), 0.0).expect("write");
+        photon::io::image::write_image(&result.image, &dir.join("job.pfm"), Default::default())
+            .expect("write");
         let mut args = vec!["render", "s.toml", "-q", "-o", "cli.pfm"];
         args.extend(&flags);
         let o = photon(&args, &dir);
