@@ -1,4 +1,4 @@
-"""Writes scenes/prism.toml and scenes/gem.toml, the spectral showcase: `python3 scenes/spectral_scenes.py scenes` (standard library only). The prism is the geometry of tests/spectral.rs."""
+"""Writes scenes/prism.toml, scenes/prism-fog.toml and scenes/gem.toml, the spectral showcase: `python3 scenes/spectral_scenes.py scenes` (standard library only). The prism is the geometry of tests/spectral.rs."""
 import math, sys
 
 def norm(v):
@@ -97,6 +97,31 @@ type = "environment"
 radiance = 0.04
 """
 open(sys.argv[1] + "/prism.toml","w").write(prism)
+
+# The same prism in a slab of haze holding the beam's plane (an invisible box; the camera looks
+# in from above it), lit by the spot alone.
+fog = prism.replace("""# A prism of N-SF11 (a dense flint glass) throws the rainbow of a narrow white beam on a wall.
+# Spectral rendering only: in RGB the beam stays white.
+#   photon render scenes/prism.toml --spectral --integrator sppm --time 60 -o prism.png""", """# The prism of prism.toml in a slab of haze that holds the beam's plane: the white beam and the
+# rainbow it fans into show in the air, as well as on the wall. Spectral rendering only: in RGB
+# the beam stays white.
+#   photon render scenes/prism-fog.toml --spectral --integrator sppm --time 120 -o prism-fog.png""")
+fog = fog.replace("[materials.prism]", """[media.haze]
+sigma_a = 0.01
+sigma_s = 0.4
+g = 0.4
+
+[materials.prism]""")
+fog = fog.replace('material = "prism"\npositions', 'material = "prism"\nexterior = "haze"\npositions')
+fog = fog[:fog.index('[[lights]]\ntype = "environment"')].rstrip() + """
+
+[[shapes]]                  # no material: an invisible box holding the haze
+type = "box"
+min = [-3.0, -0.499, -1.8]
+max = [2.3, 0.6, 0.7]
+interior = "haze"
+"""
+open(sys.argv[1] + "/prism-fog.toml","w").write(fog)
 
 # A round brilliant: table, crown, girdle, pavilion to a culet; 8-fold, as in a jeweller's cut.
 k = 16
