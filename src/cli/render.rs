@@ -67,6 +67,11 @@ pub struct RenderArgs {
     /// the sRGB gamut (a spectral render's rainbow) take in RGB.
     #[arg(long, help_heading = OUTPUT)]
     xyz: bool,
+    /// Show the image in a running tev viewer at HOST:PORT (tev listens on 127.0.0.1:14158):
+    /// after each pass of sppm and ppm (at most four times a second), and when the render
+    /// ends.
+    #[arg(long, value_name = "HOST:PORT", help_heading = OUTPUT)]
+    tev: Option<String>,
     /// Extra images: any of direct, caustic, indirect (photon), albedo, normal (photon,
     /// direct, path), comma-separated; layers of the EXR output, or files NAME.AOV.EXT for
     /// other formats.
@@ -167,7 +172,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             .map(|(_, f)| (*f).to_owned());
         if let Some(flag) = settings.chain(run_flags).next() {
             bail!(
-                "--resume goes on with the checkpoint's own settings: it takes --passes, --time, -o, --exposure, --xyz, --threads, -q and the environment flags, not {flag}"
+                "--resume goes on with the checkpoint's own settings: it takes --passes, --time, -o, --exposure, --xyz, --tev, --threads, -q and the environment flags, not {flag}"
             );
         }
         let pool = super::thread_pool(a.threads)?;
@@ -179,6 +184,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             output: a.output.as_deref(),
             exposure: a.exposure,
             space: a.color_space(),
+            tev: a.tev.as_deref(),
             quiet: a.quiet,
             env: &a.env,
         };
@@ -252,6 +258,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
         job = job.with_photon_maps(Arc::new(maps));
     }
+    let mut tev = super::progressive::connect_tev(a.tev.as_deref(), &output)?;
     let settings = job.settings();
     let pool = super::thread_pool(a.threads)?;
     let tracing = progress::bar("tracing photons", a.quiet || kind != IntegratorKind::Photon);
@@ -276,6 +283,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     match format {
         Some(format) => write_outputs(&a, &output, format, out)?,
         None => job.write_part(&result, &output)?,
+    }
+    if let Some(tev) = &mut tev {
+        super::progressive::show_in_tev(tev, &out.image);
     }
     let t = result.timings;
     let secs = t.render;
@@ -387,6 +397,7 @@ fn run_progressive(
         image: output,
         snapshots: a.snapshots,
         write_as: a.write_as(),
+        tev: a.tev.clone(),
         quiet: a.quiet,
         partial,
         env: progressive::env_settings(&a.env),

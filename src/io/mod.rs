@@ -1,5 +1,5 @@
 //! Files: images (PNG, OpenEXR, PFM, NumPy), photon maps (.phm), point clouds and procedural
-//! models (PLY, OBJ), all written atomically.
+//! models (PLY, OBJ), all written atomically; and images streamed to the tev viewer.
 
 pub mod atomic;
 pub mod checkpoint;
@@ -11,4 +11,5 @@ pub mod mesh;
 pub mod phm;
 pub mod ply;
 pub mod sample_part;
+pub mod tev;
 pub mod texture;
