@@ -20,6 +20,7 @@ mod bench;
 mod compare;
 mod job;
 mod job_submit;
+mod live;
 mod model;
 mod photons;
 mod progress;
@@ -27,6 +28,7 @@ mod progressive;
 mod render;
 mod setting_flags;
 mod validate;
+mod view;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -53,6 +55,9 @@ enum Command {
     Render(Box<render::RenderArgs>),
     /// Print how far one image is from a reference: RMSE, relMSE and mean ratio per channel.
     Compare(compare::CompareArgs),
+    /// Show an image (.exr, .pfm, .png) in Photon's viewer, a page on 127.0.0.1: exposure,
+    /// tone mapping, zoom, pixel read-out, and with --reference an A/B flip and error map.
+    View(view::ViewArgs),
     /// Photon maps: trace and save them, describe a saved file, export it as a PLY point cloud.
     Photons {
         #[command(subcommand)]
@@ -82,6 +87,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render(args) => render::run(*args),
         Command::Compare(args) => compare::run(&args),
+        Command::View(args) => view::view(&args),
         Command::Photons { command } => photons::run(command),
         Command::Model(args) => model::run(&args),
         Command::Merge(args) => progressive::merge(&args),

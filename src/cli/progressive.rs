@@ -1,11 +1,11 @@
 //! `photon render --integrator sppm|ppm`: passes under a budget, snapshots, checkpoints,
 //! resume, partial renders; and `photon merge`.
 
+use super::live::{Live, LiveOutputs};
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use photon::io::checkpoint::{self, EnvSettings, RunInfo};
 use photon::io::image::{ColorSpace, WriteAs, write_image};
-use photon::io::tev::Tev;
 use photon::progressive::ProgressiveState;
 use photon::scene::Scene;
 use photon::session::{CHECKPOINT_EVERY, CheckpointPlan, Ending, Session, Totals};
@@ -24,8 +24,8 @@ pub struct Outputs {
     pub snapshots: bool,
     /// The exposure of PNG output and the colour space of EXR output.
     pub write_as: WriteAs,
-    /// A tev viewer's HOST:PORT, shown each pass.
-    pub tev: Option<String>,
+    /// Where the image is shown as passes land: tev, the viewer.
+    pub live: LiveOutputs,
     pub quiet: bool,
     /// A partial render (`--pass-range`): the state file is the output, no image.
     pub partial: bool,
@@ -34,35 +34,6 @@ pub struct Outputs {
     /// The pass target the checkpoint keeps when the budget has none (a resumed run under a
     /// time budget keeps its run's).
     pub target_passes: Option<u64>,
-}
-
-/// The shortest time between two images sent to tev while passes land.
-const TEV_EVERY: std::time::Duration = std::time::Duration::from_millis(250);
-
-/// A connection to tev at `address`, if one was asked for, showing the image as `output`'s
-/// file name; an address that cannot be reached is an error before any work is done.
-pub fn connect_tev(address: Option<&str>, output: &Path) -> Result<Option<Tev>> {
-    let Some(address) = address else {
-        return Ok(None);
-    };
-    let name = output
-        .file_name()
-        .map_or_else(|| "photon".into(), |n| n.to_string_lossy().into_owned());
-    let tev = Tev::connect(address, &name).with_context(|| {
-        format!("cannot reach tev at '{address}' (start tev first; it listens on 127.0.0.1:14158)")
-    })?;
-    Ok(Some(tev))
-}
-
-/// Send `image` to tev; a viewer that stopped taking it is reported once, and the render
-/// goes on.
-pub fn show_in_tev(tev: &mut Tev, image: &photon::film::Image) {
-    if let Err(e) = tev.show(image) {
-        eprintln!(
-            "photon: warning: tev at {} stopped taking the image ({e}); rendering goes on",
-            tev.address()
-        );
-    }
 }
 
 /// The environment flags as a checkpoint keeps them: a sky file's path made absolute (so a
@@ -143,18 +114,14 @@ pub fn run(
             keep: out.keep_checkpoint,
         });
     }
-    let mut tev = connect_tev(out.tev.as_deref(), &out.image)?;
-    let mut last_shown: Option<std::time::Instant> = None;
     let signals = interrupts();
+    let mut live = Live::start(&out.live, &out.image, signals.stop.clone(), || {
+        session.state().image()
+    })?;
     let bar = progress_bar(out.quiet, budget.passes);
     let ending = pool.install(|| {
         session.run(scene, &signals.stop, &signals.abandon, |s, _| {
-            if let Some(tev) = &mut tev
-                && last_shown.is_none_or(|t| t.elapsed() >= TEV_EVERY)
-            {
-                show_in_tev(tev, &s.state().image());
-                last_shown = Some(std::time::Instant::now());
-            }
+            live.pass(|| s.state().image(), s.state().passes);
             let passes = s.state().next_pass();
             if budget.passes.is_none() {
                 bar.set_length(passes + 1);
@@ -195,12 +162,12 @@ pub fn run(
         write(session.state())?;
         session.finish(ending)?
     };
-    if let Some(tev) = &mut tev
-        && !out.partial
-    {
-        show_in_tev(tev, &state.image());
+    if !out.partial {
+        live.finish(state.image(), state.passes);
     }
-    report(scene, &state, out, &totals, secs, ending)
+    report(scene, &state, out, &totals, secs, ending)?;
+    live.linger();
+    Ok(())
 }
 
 fn progress_bar(quiet: bool, target: Option<u64>) -> ProgressBar {
@@ -269,7 +236,7 @@ pub struct ResumeArgs<'a> {
     pub output: Option<&'a Path>,
     pub exposure: f32,
     pub space: ColorSpace,
-    pub tev: Option<&'a str>,
+    pub live: &'a LiveOutputs,
     pub quiet: bool,
     /// Environment flags given again: they must be the run's.
     pub env: &'a super::EnvironmentArgs,
@@ -302,7 +269,7 @@ pub fn resume(path: &Path, args: &ResumeArgs, pool: &rayon::ThreadPool) -> Resul
         output,
         exposure,
         space,
-        tev,
+        live,
         quiet,
         ..
     } = *args;
@@ -346,7 +313,7 @@ pub fn resume(path: &Path, args: &ResumeArgs, pool: &rayon::ThreadPool) -> Resul
             },
             space,
         },
-        tev: tev.map(str::to_owned),
+        live: live.clone(),
         quiet,
         partial: false,
         env: info.env,

@@ -1,5 +1,6 @@
 //! `photon render`.
 
+use super::live::{Live, LiveOutputs};
 use super::{progress, progressive};
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
@@ -72,6 +73,18 @@ pub struct RenderArgs {
     /// ends.
     #[arg(long, value_name = "HOST:PORT", help_heading = OUTPUT)]
     tev: Option<String>,
+    /// Show the render in Photon's viewer, a page on 127.0.0.1 (the URL, with its token, is
+    /// printed): exposure, tone mapping, zoom, pixel read-out; pause and stop. It stays up
+    /// after the render until Ctrl-C or the page's Close.
+    #[arg(long, help_heading = OUTPUT)]
+    view: bool,
+    /// The viewer's port [default: any free port].
+    #[arg(long, requires = "view", help_heading = OUTPUT)]
+    view_port: Option<u16>,
+    /// An image of the same size for the viewer to compare with: A/B flip, relative-error
+    /// heat map, relMSE against time.
+    #[arg(long, requires = "view", help_heading = OUTPUT)]
+    reference: Option<PathBuf>,
     /// Extra images: any of direct, caustic, indirect (photon), albedo, normal (photon,
     /// direct, path), comma-separated; layers of the EXR output, or files NAME.AOV.EXT for
     /// other formats.
@@ -126,6 +139,14 @@ impl RenderArgs {
             ColorSpace::Xyz
         } else {
             ColorSpace::LinearSrgb
+        }
+    }
+
+    fn live(&self) -> LiveOutputs {
+        LiveOutputs {
+            tev: self.tev.clone(),
+            view: self.view.then(|| self.view_port.unwrap_or(0)),
+            reference: self.reference.clone(),
         }
     }
 
@@ -184,7 +205,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             output: a.output.as_deref(),
             exposure: a.exposure,
             space: a.color_space(),
-            tev: a.tev.as_deref(),
+            live: &a.live(),
             quiet: a.quiet,
             env: &a.env,
         };
@@ -258,8 +279,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
         job = job.with_photon_maps(Arc::new(maps));
     }
-    let mut tev = super::progressive::connect_tev(a.tev.as_deref(), &output)?;
     let settings = job.settings();
+    let mut live = Live::start(
+        &a.live(),
+        &output,
+        super::progressive::interrupts().stop,
+        || photon::film::Image::new(settings.width, settings.height),
+    )?;
     let pool = super::thread_pool(a.threads)?;
     let tracing = progress::bar("tracing photons", a.quiet || kind != IntegratorKind::Photon);
     let rendering = progress::bar("rendering", a.quiet);
@@ -284,9 +310,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         Some(format) => write_outputs(&a, &output, format, out)?,
         None => job.write_part(&result, &output)?,
     }
-    if let Some(tev) = &mut tev {
-        super::progressive::show_in_tev(tev, &out.image);
-    }
+    live.finish(out.image.clone(), 0);
     let t = result.timings;
     let secs = t.render;
     let m = |x: u64| x as f64 / secs / 1e6;
@@ -313,6 +337,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         m(out.rays.shadow),
         output.display()
     );
+    live.linger();
     Ok(())
 }
 
@@ -397,7 +422,7 @@ fn run_progressive(
         image: output,
         snapshots: a.snapshots,
         write_as: a.write_as(),
-        tev: a.tev.clone(),
+        live: a.live(),
         quiet: a.quiet,
         partial,
         env: progressive::env_settings(&a.env),
