@@ -29,6 +29,7 @@ mod render;
 mod setting_flags;
 mod validate;
 mod view;
+mod view_photons;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};

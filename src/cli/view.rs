@@ -34,6 +34,11 @@ struct Shared {
 struct Frame {
     version: u64,
     image: Option<Arc<Image>>,
+    /// A photon map's points and its scene's wireframe (see `view_photons`), and how many
+    /// photons each map holds (global, caustic).
+    photons: Option<Arc<Vec<u8>>>,
+    wireframe: Option<Arc<Vec<u8>>>,
+    photon_counts: [usize; 2],
     reference: Option<Arc<Image>>,
     passes: u64,
     seconds: f64,
@@ -107,6 +112,20 @@ impl Viewer {
         frame.passes = passes;
         frame.seconds = seconds;
         frame.done = done;
+    }
+
+    /// Show a photon map: its points and its scene's wireframe (see `view_photons`).
+    pub fn show_photons(&self, photons: Vec<u8>, wireframe: Vec<u8>, counts: [usize; 2]) {
+        let mut frame = self
+            .shared
+            .frame
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        frame.photons = Some(Arc::new(photons));
+        frame.wireframe = Some(Arc::new(wireframe));
+        frame.photon_counts = counts;
+        frame.version += 1;
+        frame.done = true;
     }
 
     /// While the page has paused the render: wait, unless it is stopped.
@@ -206,12 +225,17 @@ fn route(shared: &Shared, token: &str, method: &tiny_http::Method, url: &str) ->
                 "paused": shared.paused.load(Ordering::SeqCst),
                 "stopped": shared.stop.load(Ordering::SeqCst),
                 "reference": f.reference.is_some(),
+                "kind": if f.photons.is_some() { "photons" } else { "image" },
+                "photon_counts": f.photon_counts,
+                "photon_floats": super::view_photons::PHOTON_FLOATS,
                 "history": f.history,
             });
             (200, "application/json", state.to_string().into_bytes())
         }
         (Get, "/image") => pixels(frame().image.clone()),
         (Get, "/reference") => pixels(frame().reference.clone()),
+        (Get, "/photons") => bytes(frame().photons.clone()),
+        (Get, "/wireframe") => bytes(frame().wireframe.clone()),
         (Post, "/pause") => flag(&shared.paused, true),
         (Post, "/resume") => flag(&shared.paused, false),
         (Post, "/stop") => flag(&shared.stop, true),
@@ -223,6 +247,13 @@ fn route(shared: &Shared, token: &str, method: &tiny_http::Method, url: &str) ->
 fn flag(f: &AtomicBool, value: bool) -> Answer {
     f.store(value, Ordering::SeqCst);
     text(200, "ok")
+}
+
+fn bytes(data: Option<Arc<Vec<u8>>>) -> Answer {
+    match data {
+        Some(d) => (200, "application/octet-stream", d.as_ref().clone()),
+        None => text(404, "no photon map"),
+    }
 }
 
 fn pixels(image: Option<Arc<Image>>) -> Answer {
@@ -240,8 +271,13 @@ fn pixels(image: Option<Arc<Image>>) -> Answer {
 
 #[derive(clap::Args)]
 pub struct ViewArgs {
-    /// The image to show: .exr, .pfm or .png.
+    /// The image to show (.exr, .pfm or .png), or a photon map (.phm, `photon photons trace`)
+    /// as points over its scene's wireframe.
     file: std::path::PathBuf,
+    /// The scene a photon map's wireframe is drawn from [default: the scene it was traced
+    /// for, by the name it records].
+    #[arg(long)]
+    scene: Option<String>,
     /// The port to serve on [default: any free port].
     #[arg(long)]
     port: Option<u16>,
@@ -252,11 +288,40 @@ pub struct ViewArgs {
 
 /// `photon view FILE`: the viewer on a finished image, until Ctrl-C.
 pub fn view(a: &ViewArgs) -> Result<()> {
+    let is_phm = a
+        .file
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("phm"));
+    if is_phm {
+        return view_photon_map(a);
+    }
     let image = read_any_image(&a.file)?;
     let reference = load_reference(a.reference.as_deref(), image.width, image.height)?;
     let stop = super::progressive::interrupts().stop;
     let viewer = Viewer::start(a.port.unwrap_or(0), stop, reference)?;
     viewer.show(image, 0, true);
+    viewer.serve_until_closed();
+    Ok(())
+}
+
+/// `photon view maps.phm`: the photons over the wireframe of the scene they were traced for.
+fn view_photon_map(a: &ViewArgs) -> Result<()> {
+    use super::view_photons::{photon_floats, to_bytes, wireframe};
+    let maps = photon::io::phm::load(&a.file)?;
+    let scene_name = a.scene.clone().unwrap_or_else(|| maps.scene_name.clone());
+    let wire = match super::scene_with(&scene_name, &super::EnvironmentArgs::default()) {
+        Ok((scene, _, _)) => wireframe(&scene),
+        Err(e) => {
+            eprintln!(
+                "photon: warning: no wireframe: scene '{scene_name}' does not load ({e:#}); give --scene"
+            );
+            Vec::new()
+        }
+    };
+    let (points, counts) = photon_floats(&maps);
+    let stop = super::progressive::interrupts().stop;
+    let viewer = Viewer::start(a.port.unwrap_or(0), stop, None)?;
+    viewer.show_photons(to_bytes(&points), to_bytes(&wire), counts);
     viewer.serve_until_closed();
     Ok(())
 }

@@ -166,6 +166,12 @@ impl Photon {
         Vec3::from_array(self.position)
     }
 
+    /// How many bounces from the light it arrived after: 1 straight from the light (at most
+    /// 255).
+    pub fn depth(&self) -> u8 {
+        self.depth
+    }
+
     /// Power relative to the map's `power_scale`.
     pub fn relative_power(&self) -> Rgb {
         Rgb::from_array(self.power.map(|b| f16::from_bits(b).to_f32()))
