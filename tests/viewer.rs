@@ -353,3 +353,90 @@ fn the_photon_view_draws_every_photon_over_the_wireframe_and_picks_one() {
     request(&base, "POST", &format!("/close?t={token}"));
     assert!(viewer.child.wait().expect("exits").success());
 }
+
+#[test]
+fn the_viewer_offers_a_renders_aovs_as_layers() {
+    let dir = common::temp_dir("viewer-aov");
+    let mut r = start(
+        &[
+            "render",
+            "cornell",
+            "--integrator",
+            "path",
+            "--spp",
+            "2",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--aov",
+            "albedo",
+            "-q",
+            "-o",
+            "a.exr",
+            "--view",
+        ],
+        &dir,
+    );
+    let (base, token) = (r.base.clone(), r.token.clone());
+    // The render is done once its layers are there.
+    let state = (0..2400)
+        .map(|_| {
+            std::thread::sleep(std::time::Duration::from_millis(25));
+            state_json(&base, &token)
+        })
+        .find(|s| s["done"] == true)
+        .expect("the render ends");
+    assert_eq!(state["layers"], serde_json::json!(["albedo"]));
+    let (status, served) = request(&base, "GET", &format!("/image?layer=albedo&t={token}"));
+    assert_eq!(status, 200);
+    let served: Vec<f32> = served
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes(b.try_into().expect("4 bytes")))
+        .collect();
+    // The file's albedo layer, channel by channel.
+    let file = exr::prelude::read_all_flat_layers_from_file(dir.join("a.exr")).expect("EXR");
+    let channel = |name: &str| -> Vec<f32> {
+        let list = &file.layer_data[0].channel_data.list;
+        let c = list
+            .iter()
+            .find(|c| c.name.to_string() == name)
+            .expect(name);
+        c.sample_data.values_as_f32().collect()
+    };
+    let (red, green, blue) = (
+        channel("albedo.R"),
+        channel("albedo.G"),
+        channel("albedo.B"),
+    );
+    for i in 0..16 * 12 {
+        assert_eq!(
+            served[3 * i..3 * i + 3],
+            [red[i], green[i], blue[i]],
+            "pixel {i}"
+        );
+    }
+    if let Some(chromium) = chromium() {
+        let page = page_state(
+            &chromium,
+            &format!("{base}/?t={token}&layer=albedo&probe=3,4"),
+        );
+        assert_eq!(page["layer"], "albedo");
+        let i = 3 + 16 * 4;
+        let want = [red[i], green[i], blue[i]];
+        let got: Vec<f32> = page["probe"]
+            .split(' ')
+            .map(|v| v.parse().expect("a number"))
+            .collect();
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                (g - w).abs() <= 1e-6 * w.abs().max(1e-6),
+                "read-out {got:?} vs {want:?}"
+            );
+        }
+    } else {
+        eprintln!("no Chromium here: the browser checks are skipped (apt-get install chromium)");
+    }
+    request(&base, "POST", &format!("/close?t={token}"));
+    assert!(r.child.wait().expect("exits").success());
+}

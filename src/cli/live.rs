@@ -95,6 +95,14 @@ impl Live {
         self.show(image, passes, true);
     }
 
+    /// The render's final image and its AOVs, by name (the viewer offers them as layers).
+    pub fn finish_with_layers(&mut self, image: Image, passes: u64, layers: Vec<(String, Image)>) {
+        if let Some(v) = &self.viewer {
+            v.set_layers(layers);
+        }
+        self.show(image, passes, true);
+    }
+
     fn show(&mut self, image: Image, passes: u64, done: bool) {
         if let Some(tev) = &mut self.tev
             && let Err(e) = tev.show(&image)

@@ -310,7 +310,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
         Some(format) => write_outputs(&a, &output, format, out)?,
         None => job.write_part(&result, &output)?,
     }
-    live.finish(out.image.clone(), 0);
+    let layers = a
+        .aov
+        .iter()
+        .map(|&x| (x.name().to_owned(), aov_layer(out, x).clone()))
+        .collect();
+    live.finish_with_layers(out.image.clone(), 0, layers);
     let t = result.timings;
     let secs = t.render;
     let m = |x: u64| x as f64 / secs / 1e6;
@@ -507,19 +512,24 @@ pub fn refuse_inputs(
     Ok(())
 }
 
+/// The image of one AOV.
+fn aov_layer(out: &RenderOutput, x: Aov) -> &photon::film::Image {
+    match x {
+        Aov::Direct => &out.aovs.direct,
+        Aov::Caustic => &out.aovs.caustic,
+        Aov::Indirect => &out.aovs.indirect,
+        Aov::Albedo => &out.aovs.albedo,
+        Aov::Normal => &out.aovs.normal,
+    }
+}
+
 fn write_outputs(
     a: &RenderArgs,
     output: &std::path::Path,
     format: ImageFormat,
     out: &RenderOutput,
 ) -> Result<()> {
-    let aov_image = |x: Aov| match x {
-        Aov::Direct => &out.aovs.direct,
-        Aov::Caustic => &out.aovs.caustic,
-        Aov::Indirect => &out.aovs.indirect,
-        Aov::Albedo => &out.aovs.albedo,
-        Aov::Normal => &out.aovs.normal,
-    };
+    let aov_image = |x: Aov| aov_layer(out, x);
     if format == ImageFormat::Exr && !a.aov.is_empty() {
         let mut layers = vec![("beauty", &out.image)];
         layers.extend(a.aov.iter().map(|&x| (x.name(), aov_image(x))));

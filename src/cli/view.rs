@@ -8,8 +8,8 @@
 //! gets 400, anything else not a route 404.
 //!
 //! Routes: `GET /` the page; `GET /state` JSON (the image's version, size, passes, seconds,
-//! whether it is done or paused, the relMSE history against `--reference`); `GET /image` and
-//! `GET /reference` the pixels (little-endian f32 R, G, B, rows from the top); `POST /pause`,
+//! whether it is done or paused, the relMSE history against `--reference`, the AOV layers);
+//! `GET /image` (`&layer=NAME` for an AOV) and `GET /reference` the pixels (little-endian f32 R, G, B, rows from the top); `POST /pause`,
 //! `/resume`, `/stop` (the progressive session's cancel: what is done is kept) and `/close`
 //! (ends a finished viewer).
 
@@ -39,6 +39,8 @@ struct Frame {
     photons: Option<Arc<Vec<u8>>>,
     wireframe: Option<Arc<Vec<u8>>>,
     photon_counts: [usize; 2],
+    /// Further images of the render (its AOVs), by name.
+    layers: Vec<(String, Arc<Image>)>,
     reference: Option<Arc<Image>>,
     passes: u64,
     seconds: f64,
@@ -112,6 +114,16 @@ impl Viewer {
         frame.passes = passes;
         frame.seconds = seconds;
         frame.done = done;
+    }
+
+    /// The AOVs to offer beside the image, by name.
+    pub fn set_layers(&self, layers: Vec<(String, Image)>) {
+        let mut frame = self
+            .shared
+            .frame
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        frame.layers = layers.into_iter().map(|(n, i)| (n, Arc::new(i))).collect();
     }
 
     /// Show a photon map: its points and its scene's wireframe (see `view_photons`).
@@ -228,11 +240,19 @@ fn route(shared: &Shared, token: &str, method: &tiny_http::Method, url: &str) ->
                 "kind": if f.photons.is_some() { "photons" } else { "image" },
                 "photon_counts": f.photon_counts,
                 "photon_floats": super::view_photons::PHOTON_FLOATS,
+                "layers": f.layers.iter().map(|l| l.0.clone()).collect::<Vec<_>>(),
                 "history": f.history,
             });
             (200, "application/json", state.to_string().into_bytes())
         }
-        (Get, "/image") => pixels(frame().image.clone()),
+        (Get, "/image") => {
+            let f = frame();
+            let layer = query.split('&').find_map(|kv| kv.strip_prefix("layer="));
+            match layer {
+                None | Some("") => pixels(f.image.clone()),
+                Some(name) => pixels(f.layers.iter().find(|l| l.0 == name).map(|l| l.1.clone())),
+            }
+        }
         (Get, "/reference") => pixels(frame().reference.clone()),
         (Get, "/photons") => bytes(frame().photons.clone()),
         (Get, "/wireframe") => bytes(frame().wireframe.clone()),
