@@ -43,6 +43,67 @@ impl Fields<'_> {
     }
 }
 
+fn length_prefix(packet: &[u8]) -> Fields<'_> {
+    let len = u32::from_le_bytes(packet[..4].try_into().expect("4 bytes"));
+    assert_eq!(
+        len as usize,
+        packet.len(),
+        "the length counts the whole packet"
+    );
+    Fields(&packet[4..])
+}
+
+#[test]
+fn create_image_is_tevs_layout() {
+    let packet = photon::io::tev::create_image("box.exr", 300, 7);
+    let mut f = length_prefix(&packet);
+    assert_eq!(f.u8(), 4);
+    assert_eq!(f.u8(), 1, "grab focus");
+    assert_eq!(f.string(), "box.exr");
+    assert_eq!((f.i32(), f.i32()), (300, 7));
+    assert_eq!(f.i32(), 3);
+    assert_eq!([f.string(), f.string(), f.string()], ["R", "G", "B"]);
+    assert!(f.0.is_empty(), "nothing after the last field");
+}
+
+#[test]
+fn update_packets_tile_the_image_once_with_its_pixels() {
+    // 300 × 7: three tiles across (128, 128, 44), one down.
+    let mut image = photon::film::Image::new(300, 7);
+    for y in 0..7 {
+        for x in 0..300 {
+            image.set(x, y, photon::math::Rgb::new(x as f32, y as f32, -0.5));
+        }
+    }
+    let mut seen = vec![0u32; 300 * 7];
+    let packets = photon::io::tev::update_image("a\0b", &image);
+    assert_eq!(packets.len(), 3);
+    for packet in &packets {
+        let mut f = length_prefix(packet);
+        assert_eq!(f.u8(), 6);
+        assert_eq!(f.u8(), 0, "updates leave the focus");
+        assert_eq!(f.string(), "ab", "a zero byte would end the name early");
+        assert_eq!(f.i32(), 3);
+        assert_eq!([f.string(), f.string(), f.string()], ["R", "G", "B"]);
+        let (x0, y0, w, h) = (f.i32(), f.i32(), f.i32(), f.i32());
+        assert!(w > 0 && h > 0 && w <= 128 && h <= 128);
+        assert_eq!([f.i64(), f.i64(), f.i64()], [0, 1, 2], "offsets");
+        assert_eq!([f.i64(), f.i64(), f.i64()], [3, 3, 3], "strides");
+        assert_eq!(
+            f.0.len(),
+            (w * h * 3) as usize * 4,
+            "exactly the tile's floats"
+        );
+        for y in y0..y0 + h {
+            for x in x0..x0 + w {
+                assert_eq!([f.f32(), f.f32(), f.f32()], [x as f32, y as f32, -0.5]);
+                seen[(x + 300 * y) as usize] += 1;
+            }
+        }
+    }
+    assert!(seen.iter().all(|&n| n == 1), "every pixel sent once");
+}
+
 /// What tev would do with the stream: the images created (name, width, height) and the
 /// pixels of the last image as the updates left them (R, G, B), with how many updates came.
 #[derive(Default)]
