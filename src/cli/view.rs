@@ -186,20 +186,40 @@ fn respond(shared: &Shared, token: &str, request: tiny_http::Request) {
         .expect("a valid header");
     let no_store = tiny_http::Header::from_bytes(&b"Cache-Control"[..], &b"no-store"[..])
         .expect("a valid header");
-    let response = tiny_http::Response::from_data(body)
-        .with_status_code(status)
-        .with_header(header)
-        .with_header(no_store);
+    let length = body.0.len();
+    let response = tiny_http::Response::new(
+        tiny_http::StatusCode(status),
+        vec![header, no_store],
+        std::io::Cursor::new(body),
+        Some(length),
+        None,
+    );
     let _ = request.respond(response);
 }
 
-type Answer = (u16, &'static str, Vec<u8>);
+/// A response's body, shared with the frame it came from: a photon map of tens of
+/// megabytes is sent without a copy per request.
+struct Body(Arc<Vec<u8>>);
+
+impl AsRef<[u8]> for Body {
+    fn as_ref(&self) -> &[u8] {
+        &self.0
+    }
+}
+
+impl From<Vec<u8>> for Body {
+    fn from(bytes: Vec<u8>) -> Self {
+        Body(Arc::new(bytes))
+    }
+}
+
+type Answer = (u16, &'static str, Body);
 
 fn text(status: u16, message: &str) -> Answer {
     (
         status,
         "text/plain; charset=utf-8",
-        message.as_bytes().to_vec(),
+        message.as_bytes().to_vec().into(),
     )
 }
 
@@ -223,7 +243,11 @@ fn route(shared: &Shared, token: &str, method: &tiny_http::Method, url: &str) ->
     use tiny_http::Method::{Get, Post};
     let frame = || shared.frame.lock().unwrap_or_else(PoisonError::into_inner);
     match (method, path) {
-        (Get, "/") => (200, "text/html; charset=utf-8", PAGE.as_bytes().to_vec()),
+        (Get, "/") => (
+            200,
+            "text/html; charset=utf-8",
+            PAGE.as_bytes().to_vec().into(),
+        ),
         (Get, "/state") => {
             let f = frame();
             let (w, h) = f.image.as_ref().map_or((0, 0), |i| (i.width, i.height));
@@ -243,7 +267,11 @@ fn route(shared: &Shared, token: &str, method: &tiny_http::Method, url: &str) ->
                 "layers": f.layers.iter().map(|l| l.0.clone()).collect::<Vec<_>>(),
                 "history": f.history,
             });
-            (200, "application/json", state.to_string().into_bytes())
+            (
+                200,
+                "application/json",
+                state.to_string().into_bytes().into(),
+            )
         }
         (Get, "/image") => {
             let f = frame();
@@ -271,7 +299,7 @@ fn flag(f: &AtomicBool, value: bool) -> Answer {
 
 fn bytes(data: Option<Arc<Vec<u8>>>) -> Answer {
     match data {
-        Some(d) => (200, "application/octet-stream", d.as_ref().clone()),
+        Some(d) => (200, "application/octet-stream", Body(d)),
         None => text(404, "no photon map"),
     }
 }
@@ -286,7 +314,7 @@ fn pixels(image: Option<Arc<Image>>) -> Answer {
             bytes.extend(v.to_le_bytes());
         }
     }
-    (200, "application/octet-stream", bytes)
+    (200, "application/octet-stream", bytes.into())
 }
 
 #[derive(clap::Args)]
