@@ -56,6 +56,52 @@ impl Camera {
             (self.forward + sx * self.right + sy * self.up).normalize(),
         )
     }
+
+    /// The direction the camera looks along.
+    pub fn forward(&self) -> Vec3 {
+        self.forward
+    }
+
+    /// Distance from the pinhole to the image plane measured in pixels: the plane on which
+    /// every pixel has unit area.
+    pub fn image_plane_distance(&self) -> f32 {
+        0.5 * self.height as f32 / self.tan_half_fov_y
+    }
+
+    /// The film position (in pixels, as [`Camera::ray`] takes it) that sees `p`, if `p` is in
+    /// front of the camera and inside the image.
+    pub fn raster(&self, p: Vec3) -> Option<Vec2> {
+        let d = p - self.position;
+        let z = d.dot(self.forward);
+        if z <= 0.0 {
+            return None;
+        }
+        let aspect = self.width as f32 / self.height as f32;
+        let sx = d.dot(self.right) / (z * self.tan_half_fov_y * aspect);
+        let sy = d.dot(self.up) / (z * self.tan_half_fov_y);
+        let film = Vec2::new(
+            0.5 * (sx + 1.0) * self.width as f32,
+            0.5 * (1.0 - sy) * self.height as f32,
+        );
+        (film.x >= 0.0
+            && film.y >= 0.0
+            && film.x < self.width as f32
+            && film.y < self.height as f32)
+            .then_some(film)
+    }
+
+    /// The solid-angle density of a camera ray along unit `dir` whose film position is
+    /// uniform over its pixel: d²/cos θ per unit pixel area, with d = the image-plane distance
+    /// / cos θ (Georgiev et al. 2012's camera density; SmallVCM's `imageToSolidAngleFactor`).
+    /// It is also the pinhole's importance W_e for a pixel of unit area.
+    pub fn pixel_solid_angle_density(&self, dir: Vec3) -> f32 {
+        let cos = dir.dot(self.forward);
+        if cos <= 0.0 {
+            return 0.0;
+        }
+        let d = self.image_plane_distance() / cos;
+        d * d / cos
+    }
 }
 
 #[cfg(test)]
@@ -85,6 +131,80 @@ mod tests {
             .normalize();
             assert!((r.dir - want).length() < 1e-5, "pixel ({i},{j})");
         }
+    }
+
+    #[test]
+    fn raster_inverts_the_camera_ray() {
+        let desc = CameraDesc {
+            position: Vec3::new(0.3, 1.0, -4.0),
+            look_at: Vec3::new(0.0, 0.8, 0.0),
+            up: Vec3::Y,
+            fov_y_deg: 39.3,
+        };
+        let cam = Camera::new(&desc, 64, 48).expect("valid camera");
+        for film in [
+            Vec2::new(0.5, 0.5),
+            Vec2::new(63.9, 1.2),
+            Vec2::new(20.25, 47.75),
+        ] {
+            let r = cam.ray(film);
+            let back = cam.raster(r.at(3.7)).expect("in view");
+            assert!((back - film).length() < 1e-3, "{film} -> {back}");
+        }
+        assert!(cam.raster(desc.position - cam.forward()).is_none());
+        assert!(
+            cam.raster(cam.ray(Vec2::new(32.0, 24.0)).at(2.0) + 50.0 * Vec3::X)
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn pixel_density_integrates_to_one_over_a_pixel() {
+        // The directions through one pixel, weighted by their density, cover exactly one unit
+        // of film: ∫ p(ω) dω over the pixel's solid angle = 1.
+        let desc = CameraDesc {
+            position: Vec3::ZERO,
+            look_at: Vec3::Z,
+            up: Vec3::Y,
+            fov_y_deg: 60.0,
+        };
+        let cam = Camera::new(&desc, 40, 30).expect("valid camera");
+        for (px, py) in [(20u32, 15u32), (0, 0), (39, 5)] {
+            let n = 64;
+            let mut integral = 0.0f64;
+            for i in 0..n {
+                for j in 0..n {
+                    let film = Vec2::new(
+                        px as f32 + (i as f32 + 0.5) / n as f32,
+                        py as f32 + (j as f32 + 0.5) / n as f32,
+                    );
+                    let d = cam.ray(film).dir;
+                    // The cell's solid angle from its corners' directions, as two spherical
+                    // triangles (Van Oosterom and Strackee 1983).
+                    let h = 0.5 / n as f32;
+                    let corner = |sx: f32, sy: f32| cam.ray(film + Vec2::new(sx, sy) * h).dir;
+                    let (a, b, c, e) = (
+                        corner(-1.0, -1.0),
+                        corner(1.0, -1.0),
+                        corner(1.0, 1.0),
+                        corner(-1.0, 1.0),
+                    );
+                    let cell = triangle_solid_angle(a, b, c) + triangle_solid_angle(a, c, e);
+                    integral += f64::from(cam.pixel_solid_angle_density(d)) * cell;
+                }
+            }
+            assert!(
+                (integral - 1.0).abs() < 1e-4,
+                "pixel ({px},{py}): {integral}"
+            );
+        }
+    }
+
+    fn triangle_solid_angle(a: Vec3, b: Vec3, c: Vec3) -> f64 {
+        let (a, b, c) = (a.as_dvec3(), b.as_dvec3(), c.as_dvec3());
+        let num = a.dot(b.cross(c)).abs();
+        let den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
+        2.0 * num.atan2(den)
     }
 
     #[test]

@@ -213,11 +213,8 @@ impl<'s> RenderJob<'s> {
         let s = self.settings();
         let o = &self.options;
         ProgressiveConfig {
-            method: if self.integrator == IntegratorKind::Sppm {
-                Method::Sppm
-            } else {
-                Method::Ppm
-            },
+            method: Method::from_name(self.integrator.name())
+                .expect("every progressive integrator is a method"),
             width: s.width,
             height: s.height,
             seed: s.seed,
@@ -301,10 +298,15 @@ impl<'s> RenderJob<'s> {
                 }),
                 0,
             ),
-            IntegratorKind::Sppm | IntegratorKind::Ppm => {
-                return Err(Error::InvalidSetting(
-                    "sppm and ppm render in passes, not samples".into(),
-                ));
+            IntegratorKind::Sppm
+            | IntegratorKind::Ppm
+            | IntegratorKind::Vcm
+            | IntegratorKind::Bdpt
+            | IntegratorKind::LightTrace => {
+                return Err(Error::InvalidSetting(format!(
+                    "{} renders in passes, not samples",
+                    self.integrator.name()
+                )));
             }
             IntegratorKind::Photon => {
                 let start = Instant::now();

@@ -29,10 +29,16 @@ pub enum Method {
     Photon,
     Sppm,
     Ppm,
+    Vcm,
+    Bdpt,
+    LightTrace,
 }
 
 impl Method {
+    /// The path tracer and the photon-mapping integrators.
     pub const ALL: [Method; 4] = [Method::Path, Method::Photon, Method::Sppm, Method::Ppm];
+    /// Vertex connection and merging and its modes.
+    pub const VCM_FAMILY: [Method; 3] = [Method::Vcm, Method::Bdpt, Method::LightTrace];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -40,7 +46,22 @@ impl Method {
             Method::Photon => "photon",
             Method::Sppm => "sppm",
             Method::Ppm => "ppm",
+            Method::Vcm => "vcm",
+            Method::Bdpt => "bdpt",
+            Method::LightTrace => "lighttrace",
         }
+    }
+
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL
+            .into_iter()
+            .chain(Method::VCM_FAMILY)
+            .find(|m| m.name() == name)
+    }
+
+    /// Whether the method renders `scene`: the vcm family does not render media yet.
+    pub fn renders(self, scene: &Scene) -> bool {
+        !(Method::VCM_FAMILY.contains(&self) && scene.has_media())
     }
 }
 
@@ -60,6 +81,8 @@ pub struct Budget {
     pub caustic_photons: u64,
     pub passes: u32,
     pub photons_per_pass: u64,
+    /// Passes of the vcm family (one light and one camera path per pixel each).
+    pub vcm_passes: u32,
     /// Initial radius of the progressive methods as a fraction of the scene's diagonal. The
     /// command line's default (4 or 6 pixel footprints) is made for full-size images: at 32² it is
     /// a fifth of a room, and its bias takes thousands of passes to fade.
@@ -93,6 +116,7 @@ impl Budget {
         caustic_photons: 500_000,
         passes: 64,
         photons_per_pass: 20_000,
+        vcm_passes: 1024,
         radius_fraction: 0.005,
         spectral: false,
     };
@@ -107,6 +131,7 @@ impl Budget {
         caustic_photons: 1_000_000,
         passes: 256,
         photons_per_pass: 50_000,
+        vcm_passes: 1024,
         radius_fraction: 0.005,
         spectral: false,
     };
@@ -248,25 +273,26 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
             let integrator = Integrator::Photon(Box::new(PhotonIntegrator::new(s, Arc::new(maps))));
             Ok(render(scene, &integrator, &settings(budget.photon_spp), &none)?.image)
         }
-        Method::Sppm | Method::Ppm => {
+        Method::Sppm | Method::Ppm | Method::Vcm | Method::Bdpt | Method::LightTrace => {
+            let progressive = ProgressiveMethod::from_name(method.name()).expect("a method");
+            let (passes, max_depth) = match progressive.vcm_mode() {
+                Some(_) => (budget.vcm_passes, 64),
+                None => (budget.passes, 16),
+            };
             let config = ProgressiveConfig {
-                method: if method == Method::Sppm {
-                    ProgressiveMethod::Sppm
-                } else {
-                    ProgressiveMethod::Ppm
-                },
+                method: progressive,
                 width: budget.size,
                 height: budget.size,
                 seed: 0,
                 alpha: 2.0 / 3.0,
                 photons_per_pass: budget.photons_per_pass,
                 initial_radius: Some(budget.radius_fraction * scene.view_diagonal()),
-                max_depth: 16,
+                max_depth,
                 light_samples: 1,
                 spectral: budget.spectral,
             };
             let mut state = ProgressiveState::new(scene, config, 0)?;
-            for _ in 0..budget.passes {
+            for _ in 0..passes {
                 state.run_pass(scene)?;
             }
             Ok(state.image())

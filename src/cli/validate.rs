@@ -12,7 +12,8 @@ pub struct ValidateArgs {
     /// Only these scenes (comma-separated folder names).
     #[arg(long, value_delimiter = ',')]
     scenes: Vec<String>,
-    /// Only these integrators (comma-separated: path, photon, sppm, ppm).
+    /// Only these integrators (comma-separated: path, photon, sppm, ppm, vcm, bdpt, lighttrace;
+    /// default: the first five).
     #[arg(long, value_delimiter = ',', value_parser = parse_method)]
     integrators: Vec<Method>,
     /// The test suite's small budget (32², few samples) instead of the full one (64²).
@@ -31,10 +32,9 @@ pub struct ValidateArgs {
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {
-    Method::ALL
-        .into_iter()
-        .find(|m| m.name() == s)
-        .ok_or_else(|| format!("'{s}' is not one of path, photon, sppm, ppm"))
+    Method::from_name(s).ok_or_else(|| {
+        format!("'{s}' is not one of path, photon, sppm, ppm, vcm, bdpt, lighttrace")
+    })
 }
 
 pub fn run_suite(a: &ValidateArgs) -> Result<()> {
@@ -61,7 +61,9 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
         );
     }
     let methods = if a.integrators.is_empty() {
-        Method::ALL.to_vec()
+        let mut all = Method::ALL.to_vec();
+        all.push(Method::Vcm);
+        all
     } else {
         a.integrators.clone()
     };
@@ -69,7 +71,7 @@ pub fn run_suite(a: &ValidateArgs) -> Result<()> {
     let mut outcomes: Vec<Outcome> = Vec::new();
     for case in &cases {
         let loaded = load_case(case, budget.size)?;
-        for &m in &methods {
+        for &m in methods.iter().filter(|m| m.renders(&loaded.scene)) {
             let o = pool.install(|| run(case, &loaded, m, &budget))?;
             let c = &o.comparison;
             eprintln!(

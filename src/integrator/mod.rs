@@ -9,6 +9,7 @@ mod direct;
 mod lighting;
 mod path;
 mod photon;
+pub mod vcm;
 mod visible;
 
 pub use direct::DirectConfig;

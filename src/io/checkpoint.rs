@@ -95,7 +95,7 @@ fn bad(path: &Path, m: impl Into<String>) -> Error {
 fn bytes_per_pixel(method: Method) -> usize {
     match method {
         Method::Sppm => 64,
-        Method::Ppm => 48,
+        Method::Ppm | Method::Vcm | Method::Bdpt | Method::LightTrace => 48,
     }
 }
 
@@ -179,10 +179,8 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
         body: data,
         ..
     } = container::decode::<Header>(&CHECKPOINT, bytes)?;
-    let method = match hd.method.as_str() {
-        "sppm" => Method::Sppm,
-        "ppm" => Method::Ppm,
-        m => return Err(format!("unknown method '{m}'")),
+    let Some(method) = Method::from_name(&hd.method) else {
+        return Err(format!("unknown method '{}'", hd.method));
     };
     let pixels = hd.width as usize * hd.height as usize;
     if Some(data.len()) != pixels.checked_mul(bytes_per_pixel(method)) {
@@ -233,7 +231,7 @@ pub fn decode_with(bytes: &[u8]) -> std::result::Result<(ProgressiveState, RunIn
                 })
                 .collect(),
         ),
-        Method::Ppm => Pixels::Ppm(
+        Method::Ppm | Method::Vcm | Method::Bdpt | Method::LightTrace => Pixels::Ppm(
             data.chunks_exact(48)
                 .map(|px| {
                     let v = |k: usize| {

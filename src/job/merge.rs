@@ -4,7 +4,7 @@
 use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::io::sample_part::{self, PartOrigin};
-use crate::progressive::{Method, ProgressiveState};
+use crate::progressive::ProgressiveState;
 use crate::render::SampleSums;
 use std::path::Path;
 
@@ -60,7 +60,7 @@ pub fn decode_part(bytes: &[u8]) -> std::result::Result<Part, String> {
         return Ok(Part::Samples(sums, Box::new(origin)));
     }
     let (state, _) = crate::io::checkpoint::decode_with(bytes)?;
-    if state.config.method != Method::Ppm {
+    if !state.config.method.has_independent_passes() {
         return Err("an sppm checkpoint is not a part: sppm passes depend on each other".into());
     }
     Ok(Part::Passes(state))

@@ -54,11 +54,14 @@ pub fn plan(scene: &str, settings: RenderOptions, environment: EnvSettings) -> R
         .integrator
         .or(scene_settings.integrator)
         .unwrap_or(defaults::INTEGRATOR);
-    if integrator == IntegratorKind::Ppm && settings.passes.or(scene_settings.passes).is_none() {
+    if integrator.has_independent_passes() && settings.passes.or(scene_settings.passes).is_none() {
         return Err(refuse(
             "passes",
             None,
-            "a ppm job splits its passes into tasks: give passes",
+            &format!(
+                "a {} job splits its passes into tasks: give passes",
+                integrator.name()
+            ),
         ));
     }
     if integrator == IntegratorKind::Sppm {
@@ -71,7 +74,7 @@ pub fn plan(scene: &str, settings: RenderOptions, environment: EnvSettings) -> R
     // The whole render must be valid before it is split.
     let job = RenderJob::new(&built, scene_settings, settings.clone())?;
     let (unit, total) = match job.options().passes {
-        Some(passes) if integrator == IntegratorKind::Ppm => (Unit::Passes, passes),
+        Some(passes) if integrator.has_independent_passes() => (Unit::Passes, passes),
         _ => (Unit::Samples, u64::from(job.settings().spp)),
     };
     Ok(JobPlan {

@@ -203,6 +203,21 @@ impl AreaLight {
     }
 
     /// Uniform point on the light's area, then converted to a solid-angle density at `p`.
+    /// Density with which [`AreaLight::emit`] sends a photon from a point of normal `n` in
+    /// direction `w`: uniform by area, cosine-weighted about the side it leaves (a
+    /// two-sided light picks a side with probability ½).
+    pub fn pdf_emit(&self, n: Vec3, w: Vec3) -> f32 {
+        let cos = n.dot(w);
+        let sides = if self.two_sided {
+            0.5
+        } else if cos <= 0.0 {
+            return 0.0;
+        } else {
+            1.0
+        };
+        sides * cos.abs() / (PI * self.area)
+    }
+
     pub fn sample_li(&self, p: Vec3, u_pick: f32, u: Vec2, lambda: &Lambda) -> Option<LightSample> {
         let (i, _) = self.by_area.sample(u_pick);
         let s = self.shapes[i].sample_area(u);

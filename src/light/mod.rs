@@ -112,6 +112,39 @@ impl Light {
         }
     }
 
+    /// Density with which [`Light::emit`] (after the choice of this light) sends a photon
+    /// from `p` (surface normal `n`, zero off surfaces) in direction `w`: position density
+    /// (per area; per area of the emission disc for lights at infinity, whose photons may
+    /// start anywhere on the line) times direction density (per solid angle; 1 for a delta
+    /// direction). Vertex connection and merging weighs the techniques of a path with it
+    /// (Georgiev et al. 2012).
+    pub fn pdf_emit(&self, p: Vec3, n: Vec3, w: Vec3) -> f32 {
+        match self {
+            Light::Point(_) => crate::sampling::UNIFORM_SPHERE_PDF,
+            Light::Spot(l) => l.pdf_emit(w),
+            Light::Directional(l) => l.aperture.density(p, w),
+            Light::Area(l) => l.pdf_emit(n, w),
+            Light::Environment(l) => l.pdf(-w) * l.aperture.density(p, w),
+        }
+    }
+
+    /// Density with which [`Light::sample_li`] picks the point it returned, in the measure
+    /// of the light's first vertex: per area on an area light (uniform by area, wherever the
+    /// receiver is), per solid angle for the sky, 1 for a delta light.
+    pub fn pdf_direct_area(&self, w: Vec3) -> f32 {
+        match self {
+            Light::Area(l) => 1.0 / l.area(),
+            Light::Environment(l) => l.pdf(-w),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 1.0,
+        }
+    }
+
+    /// Lights at infinity (the sky and directional lights): their photons start on a disc,
+    /// not at a point of the scene, so no distance enters their first segment's density.
+    pub fn is_at_infinity(&self) -> bool {
+        matches!(self, Light::Directional(_) | Light::Environment(_))
+    }
+
     pub fn is_delta(&self) -> bool {
         !matches!(self, Light::Area(_) | Light::Environment(_))
     }

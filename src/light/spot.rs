@@ -77,6 +77,16 @@ impl SpotLight {
         })
     }
 
+    /// Density with which [`SpotLight::emit`] sends a photon in direction `w`: uniform
+    /// in the cone.
+    pub fn pdf_emit(&self, w: Vec3) -> f32 {
+        if w.dot(self.direction) >= self.cos_cutoff {
+            uniform_cone_pdf(self.cos_cutoff)
+        } else {
+            0.0
+        }
+    }
+
     pub fn sample_li(&self, p: Vec3, lambda: &Lambda) -> Option<LightSample> {
         let d = self.position - p;
         let dist2 = d.length_squared();

@@ -15,6 +15,7 @@
 
 mod pixels;
 pub mod state;
+mod vcm_pass;
 
 pub use pixels::{Pixels, SppmPixel};
 

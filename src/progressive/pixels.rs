@@ -20,7 +20,8 @@ pub struct SppmPixel {
 pub enum Pixels {
     /// Each pixel's radius, photon count, flux and direct light.
     Sppm(Vec<SppmPixel>),
-    /// Each pixel's sum over passes of its radiance, in fixed point (128 bits: 64 wrapped to
+    /// Each pixel's sum over passes of its radiance (PPM and the vertex connection and
+    /// merging methods), in fixed point (128 bits: 64 wrapped to
     /// negative pixels for a light of radiance 3·10¹¹ at 2 passes; saturating, never
     /// wrapping, even for the largest f32).
     Ppm(Vec<PassSum>),
@@ -31,14 +32,10 @@ impl Pixels {
     pub fn new(method: Method, n: usize) -> Self {
         match method {
             Method::Sppm => Pixels::Sppm(vec![SppmPixel::default(); n]),
-            Method::Ppm => Pixels::Ppm(vec![PassSum::default(); n]),
-        }
-    }
-
-    pub fn method(&self) -> Method {
-        match self {
-            Pixels::Sppm(_) => Method::Sppm,
-            Pixels::Ppm(_) => Method::Ppm,
+            // Every method of independent passes sums them.
+            Method::Ppm | Method::Vcm | Method::Bdpt | Method::LightTrace => {
+                Pixels::Ppm(vec![PassSum::default(); n])
+            }
         }
     }
 }

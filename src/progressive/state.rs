@@ -2,6 +2,7 @@ use super::pixels::{Pixels, add_finite, sppm_update};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::film::{Image, PixelFilter};
+use crate::integrator::vcm::VcmMode;
 use crate::integrator::{RayStats, VisiblePoint, VolumePoint, trace_camera_path};
 use crate::material::{Part, TransportMode};
 use crate::math::{Rgb, Vec2, surface_epsilon};
@@ -21,14 +22,50 @@ use std::time::Instant;
 pub enum Method {
     Sppm,
     Ppm,
+    /// Vertex connection and merging, and its modes (see [`crate::integrator::vcm`]).
+    Vcm,
+    Bdpt,
+    LightTrace,
 }
 
 impl Method {
+    pub const ALL: [Method; 5] = [
+        Method::Sppm,
+        Method::Ppm,
+        Method::Vcm,
+        Method::Bdpt,
+        Method::LightTrace,
+    ];
+
     pub fn name(self) -> &'static str {
         match self {
             Method::Sppm => "sppm",
             Method::Ppm => "ppm",
+            Method::Vcm => "vcm",
+            Method::Bdpt => "bdpt",
+            Method::LightTrace => "lighttrace",
         }
+    }
+
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// The techniques of a vertex connection and merging method.
+    pub fn vcm_mode(self) -> Option<VcmMode> {
+        match self {
+            Method::Vcm => Some(VcmMode::Vcm),
+            Method::Bdpt => Some(VcmMode::Bdpt),
+            Method::LightTrace => Some(VcmMode::LightTrace),
+            Method::Sppm | Method::Ppm => None,
+        }
+    }
+
+    /// Whether each pass is independent of the others given its index, so that passes can
+    /// be rendered apart and merged (every method but SPPM, whose pixels carry their radius
+    /// from pass to pass).
+    pub fn has_independent_passes(self) -> bool {
+        self != Method::Sppm
     }
 
     /// Initial gather radius in pixel footprints at each visible point, when none is given.
@@ -41,6 +78,9 @@ impl Method {
         match self {
             Method::Sppm => 6.0,
             Method::Ppm => 4.0,
+            Method::Vcm | Method::Bdpt | Method::LightTrace => {
+                super::vcm_pass::VCM_FOOTPRINT_PIXELS
+            }
         }
     }
 }
@@ -76,13 +116,20 @@ impl ProgressiveConfig {
         }
         // Per pixel: SPPM's state (r², N, τ, direct: 8 × f64) or PPM's sums (3 × i128), the
         // image, and the pass's visible-point slot.
+        // Vertex connection and merging: the sums, the pass's image, and a light subpath's
+        // vertices (about four of 176 bytes at the albedos of real scenes; Russian roulette
+        // ends longer ones).
         let per_pixel = match self.method {
             Method::Sppm => 64 + 12 + SLOT_BYTES,
             Method::Ppm => 48 + 12 + SLOT_BYTES,
+            Method::Vcm | Method::Bdpt | Method::LightTrace => 48 + 12 + 4 * 176,
         };
         let what = match self.method {
             Method::Sppm => "an SPPM render",
             Method::Ppm => "a PPM render",
+            Method::Vcm | Method::Bdpt | Method::LightTrace => {
+                "a vertex connection and merging render"
+            }
         };
         crate::render::check_pixel_memory(self.width, self.height, per_pixel, what)?;
         if !(self.alpha > 0.0 && self.alpha < 1.0) {
@@ -202,6 +249,14 @@ impl ProgressiveState {
     ) -> Result<PassStats> {
         let c = self.config.clone();
         let pass = self.next_pass();
+        if let Some(mode) = c.method.vcm_mode() {
+            let Pixels::Ppm(sums) = &mut self.pixels else {
+                return Err(Error::InvalidSetting("pixels of another method".into()));
+            };
+            let stats = super::vcm_pass::run(scene, &c, mode, pass, sums, cancel)?;
+            self.passes += 1;
+            return Ok(stats);
+        }
         let camera = Camera::new(&scene.camera, c.width, c.height)
             .ok_or_else(|| Error::InvalidScene("degenerate camera".into()))?;
         // Pixel footprint per unit distance, for the automatic radius.
@@ -255,7 +310,8 @@ impl ProgressiveState {
                 let r2 = match c.method {
                     Method::Sppm if sppm[pixel].r2 > 0.0 => sppm[pixel].r2 as f32,
                     Method::Sppm => f64::from(initial_r(&vp)).powi(2) as f32,
-                    Method::Ppm => {
+                    // (The vcm family's passes run in `vcm_pass`.)
+                    _ => {
                         let r = f64::from(initial_r(&vp)) * f64::from(ppm_r_scale);
                         (r * r) as f32
                     }
@@ -358,9 +414,7 @@ impl ProgressiveState {
     pub fn add_passes(&mut self, other: &ProgressiveState) -> Result<()> {
         let bad = |m: &str| Err(Error::InvalidSetting(m.into()));
         let (Pixels::Ppm(sum), Pixels::Ppm(add)) = (&mut self.pixels, &other.pixels) else {
-            return bad(
-                "only ppm partial renders can be merged (sppm passes depend on each other)",
-            );
+            return bad(NOT_MERGEABLE);
         };
         if other.config != self.config || other.scene_hash != self.scene_hash {
             return bad("the parts differ in scene or settings");
@@ -382,10 +436,8 @@ impl ProgressiveState {
         parts.sort_by_key(|p| p.first_pass);
         let mut rest = parts.into_iter();
         let mut out = rest.next().expect("one part at least");
-        if out.config.method != Method::Ppm {
-            return Err(Error::InvalidSetting(
-                "only ppm partial renders can be merged (sppm passes depend on each other)".into(),
-            ));
+        if !out.config.method.has_independent_passes() {
+            return Err(Error::InvalidSetting(NOT_MERGEABLE.into()));
         }
         for p in rest {
             if p.first_pass != out.next_pass() {
@@ -402,6 +454,8 @@ impl ProgressiveState {
         Ok(out)
     }
 }
+
+const NOT_MERGEABLE: &str = "sppm partial renders cannot be merged (its passes depend on each other); ppm, vcm, bdpt and lighttrace can";
 
 /// Bytes of a pixel's slot, for the memory check.
 const SLOT_BYTES: u64 = 240;
@@ -689,7 +743,7 @@ pub fn volume_radius_scale(pass: u64, alpha: f64) -> f32 {
     r3.cbrt() as f32
 }
 
-fn camera_ray(
+pub(super) fn camera_ray(
     camera: &Camera,
     c: &ProgressiveConfig,
     jitter: &PassJitter,

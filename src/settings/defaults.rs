@@ -24,15 +24,22 @@ pub fn spp(kind: IntegratorKind) -> u32 {
         IntegratorKind::Photon => 8,
         IntegratorKind::Direct => 16,
         IntegratorKind::Path => 64,
-        IntegratorKind::Sppm | IntegratorKind::Ppm => 1,
+        IntegratorKind::Sppm
+        | IntegratorKind::Ppm
+        | IntegratorKind::Vcm
+        | IntegratorKind::Bdpt
+        | IntegratorKind::LightTrace => 1,
     }
 }
 
 /// Bounces: a path tracer's paths end by Russian roulette long before 256; the others count
 /// specular bounces from the camera (and photon bounces).
+/// The vcm family counts every scattering on a full path, ended by Russian roulette long
+/// before 64.
 pub fn max_depth(kind: IntegratorKind) -> u32 {
     match kind {
         IntegratorKind::Path => 256,
+        IntegratorKind::Vcm | IntegratorKind::Bdpt | IntegratorKind::LightTrace => 64,
         _ => 16,
     }
 }

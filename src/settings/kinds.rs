@@ -101,6 +101,13 @@ pub enum IntegratorKind {
     Sppm,
     /// Probabilistic progressive photon mapping (Knaus & Zwicker 2011): independent passes.
     Ppm,
+    /// Vertex connection and merging (Georgiev et al. 2012): bidirectional paths and photon
+    /// merging under one multiple importance sampling.
+    Vcm,
+    /// Bidirectional path tracing: vcm's connections alone.
+    Bdpt,
+    /// Light tracing: vcm's light subpaths connected to the camera alone.
+    LightTrace,
 }
 
 named_values!(IntegratorKind, "NAME", [
@@ -109,15 +116,21 @@ named_values!(IntegratorKind, "NAME", [
     IntegratorKind::Path => "path",
     IntegratorKind::Sppm => "sppm",
     IntegratorKind::Ppm => "ppm",
+    IntegratorKind::Vcm => "vcm",
+    IntegratorKind::Bdpt => "bdpt",
+    IntegratorKind::LightTrace => "lighttrace",
 ]);
 
 impl IntegratorKind {
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 8] = [
         Self::Photon,
         Self::Direct,
         Self::Path,
         Self::Sppm,
         Self::Ppm,
+        Self::Vcm,
+        Self::Bdpt,
+        Self::LightTrace,
     ];
 
     pub fn name(self) -> &'static str {
@@ -128,9 +141,16 @@ impl IntegratorKind {
         Self::parse(name).ok()
     }
 
-    /// Renders in progressive passes (sppm, ppm) rather than samples per pixel.
+    /// Renders in progressive passes (sppm, ppm and the vcm family) rather than samples per
+    /// pixel.
     pub fn is_progressive(self) -> bool {
         Takes::PROGRESSIVE.includes(self)
+    }
+
+    /// Renders in passes that are independent given their index (every progressive
+    /// integrator but sppm), so a render can be split into pass ranges and merged.
+    pub fn has_independent_passes(self) -> bool {
+        Takes::PASS_RANGES.includes(self)
     }
 
     /// What `--help` says the integrator does.
@@ -148,6 +168,13 @@ impl IntegratorKind {
             }
             Self::Ppm => {
                 "probabilistic progressive photon mapping (Knaus & Zwicker 2011): independent passes"
+            }
+            Self::Vcm => {
+                "vertex connection and merging (Georgiev et al. 2012): bidirectional paths and photon merging, weighed by MIS"
+            }
+            Self::Bdpt => "bidirectional path tracing: vcm's connections alone",
+            Self::LightTrace => {
+                "light tracing: light paths connected to the camera (vcm's light subpaths alone)"
             }
         }
     }
@@ -245,11 +272,19 @@ impl SettingValue for Span {
 pub struct Takes(u8);
 
 impl Takes {
-    pub const ALL: Self = Self(0b11111);
+    pub const ALL: Self = Self(0b1111_1111);
     pub const PHOTON: Self = Self::only(IntegratorKind::Photon);
     pub const PPM: Self = Self::only(IntegratorKind::Ppm);
-    pub const PROGRESSIVE: Self =
+    /// The photon-tracing progressive integrators.
+    pub const PHOTON_PASSES: Self =
         Self::only(IntegratorKind::Sppm).and(Self::only(IntegratorKind::Ppm));
+    /// Vertex connection and merging and its modes.
+    pub const VCM_FAMILY: Self = Self::only(IntegratorKind::Vcm)
+        .and(Self::only(IntegratorKind::Bdpt))
+        .and(Self::only(IntegratorKind::LightTrace));
+    pub const PROGRESSIVE: Self = Self::PHOTON_PASSES.and(Self::VCM_FAMILY);
+    /// The integrators whose passes are independent, so that pass ranges render apart.
+    pub const PASS_RANGES: Self = Self::PPM.and(Self::VCM_FAMILY);
     /// The integrators that render samples per pixel.
     pub const SAMPLES: Self = Self::only(IntegratorKind::Photon)
         .and(Self::only(IntegratorKind::Direct))

@@ -379,7 +379,7 @@ render_settings! {
     }
     /// Samples per area light at each diffuse hit (passes of sppm and ppm average theirs).
     light_samples: u32 {
-        group: Sampling, takes: Takes::ALL.except(I::Path),
+        group: Sampling, takes: Takes::ALL.except(I::Path).except(I::Vcm).except(I::Bdpt).except(I::LightTrace),
         default: DefaultValue::Value(|k| d::light_samples(k).to_string()), note: "",
         check: one_to_max_count,
     }
@@ -404,12 +404,12 @@ render_settings! {
         default: DefaultValue::Value(|_| d::CAUSTIC_PHOTONS.to_string()),
         note: "at least photons", check: photon_count,
     }
-    /// Largest gather radius in scene units (sppm and ppm: the first pass's radius, 4× that for
-    /// balls in media).
+    /// Largest gather radius in scene units (sppm, ppm and vcm: the first pass's radius, 4× that
+    /// for balls in media).
     radius: f32 {
-        group: PhotonMapping, takes: Takes::PHOTON.and(Takes::PROGRESSIVE),
+        group: PhotonMapping, takes: Takes::PHOTON.and(Takes::PHOTON_PASSES).and(Takes::only(I::Vcm)),
         default: DefaultValue::Decided(
-            "photon: 1% (caustic map) and 2.5% (global map) of the diagonal of what the camera sees; sppm and ppm: 6 and 4 pixel footprints at each visible point",
+            "photon: 1% (caustic map) and 2.5% (global map) of the diagonal of what the camera sees; sppm and ppm: 6 and 4 pixel footprints at each visible point; vcm: 2 pixel footprints at the median distance seen",
         ),
         note: "", check: positive_finite_f32,
     }
@@ -473,15 +473,15 @@ render_settings! {
             Err("must be a positive number of seconds".into())
         },
     }
-    /// Photons traced per pass.
+    /// Photons traced per pass (the vcm family traces one light path per pixel).
     photons_per_pass: u64 {
-        group: Progressive, takes: Takes::PROGRESSIVE,
+        group: Progressive, takes: Takes::PHOTON_PASSES,
         default: DefaultValue::Value(|_| d::PHOTONS_PER_PASS.to_string()), note: "",
         check: photon_count,
     }
     /// Radius reduction α in (0, 1) (Hachisuka and Jensen 2009; Knaus and Zwicker 2011).
     alpha: f64 {
-        group: Progressive, takes: Takes::PROGRESSIVE,
+        group: Progressive, takes: Takes::PHOTON_PASSES.and(Takes::only(I::Vcm)),
         default: DefaultValue::Decided("2/3"), note: "",
         check: |a| if *a > 0.0 && *a < 1.0 { Ok(()) } else { Err("must be in (0, 1)".into()) },
     }
@@ -490,9 +490,9 @@ render_settings! {
         group: Splitting, takes: Takes::SAMPLES,
         default: DefaultValue::Decided("every sample"), note: "", check: nonempty_span,
     }
-    /// Render only passes a..b (end exclusive; ppm, whose passes are independent), into a part to merge.
+    /// Render only passes a..b (end exclusive; ppm and the vcm family, whose passes are independent), into a part to merge.
     pass_range: Span {
-        group: Splitting, takes: Takes::PPM,
+        group: Splitting, takes: Takes::PASS_RANGES,
         default: DefaultValue::Decided("every pass"), note: "", check: nonempty_span,
     }
 }

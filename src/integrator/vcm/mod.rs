@@ -1,0 +1,225 @@
+//! Vertex connection and merging (Georgiev, Křivánek, Davidovič and Slusallek, "Light
+//! Transport Simulation with Vertex Connection and Merging", 2012), with bidirectional path
+//! tracing and light tracing as modes of the same code, as in SmallVCM.
+//!
+//! A pass traces one light subpath per pixel and keeps its vertices on surfaces with a
+//! density (delta lobes cannot be connected to or merged at). Then every pixel's camera
+//! subpath, at each such vertex of its own:
+//! - samples a light (next-event estimation: a light subpath of one vertex);
+//! - connects to every vertex of the light subpath with the pixel's index;
+//! - merges with the light vertices of all subpaths within the pass's radius (photon
+//!   density estimation, the radius shrinking over passes as in probabilistic PPM);
+//! - and counts the emission it hits.
+//!
+//! Light vertices also connect to the camera (light tracing), splatting into whichever pixel
+//! sees them. Every technique is weighed against all the others that could have made the
+//! same path by the power heuristic, evaluated recursively from three quantities carried
+//! along each subpath ([`PathMis`]: Georgiev's dVCM, dVC and dVM, from the technical report
+//! "Implementing Vertex Connection and Merging", 2012).
+//!
+//! Conventions:
+//! - A subpath's *depth* is its number of segments; its vertex at depth k is its k-th
+//!   scattering vertex. A full path has at most `max_depth` scattering vertices.
+//! - Every density conversion between solid angle and area uses geometric cosines; BSDFs
+//!   use shading normals, with the adjoint correction on light subpaths (Veach 1997, §5.3).
+//! - Russian roulette continues a subpath at a vertex with a probability set by its material
+//!   alone ([`continuation`]), the same in both directions, so that the densities every
+//!   technique computes for a path agree and the weights sum to one.
+//! - The merging radius is the same at every vertex of a pass: r_p = r_0 · s_p with PPM's
+//!   schedule ([`crate::progressive::state::ppm_radius_scale`]).
+
+mod camera_path;
+mod light_path;
+mod vertex_grid;
+
+pub use camera_path::camera_sample;
+pub use light_path::{LightSubpaths, trace_light_subpaths};
+pub use vertex_grid::VertexGrid;
+
+use crate::camera::Camera;
+use crate::material::Material;
+use crate::math::{Rgb, Vec3};
+use crate::scene::{Hit, Scene};
+use crate::spectrum::Lambda;
+use std::f32::consts::PI;
+
+/// Which techniques a pass uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VcmMode {
+    /// Connections and merging: every technique.
+    Vcm,
+    /// Connections only: bidirectional path tracing (Veach 1997; Lafortune and Willems 1993).
+    Bdpt,
+    /// Light subpaths connected to the camera, and camera paths only for the emission seen
+    /// directly or through delta lobes: light tracing (Arvo 1986, Dutré et al. 1993).
+    LightTrace,
+}
+
+impl VcmMode {
+    pub fn connects(self) -> bool {
+        self != VcmMode::LightTrace
+    }
+
+    pub fn merges(self) -> bool {
+        self == VcmMode::Vcm
+    }
+}
+
+/// Everything fixed for one pass.
+pub struct PassContext<'a> {
+    pub scene: &'a Scene,
+    pub camera: &'a Camera,
+    pub mode: VcmMode,
+    /// Most scattering vertices on a full path.
+    pub max_depth: u32,
+    /// The pass's wavelengths, shared by its camera and light subpaths.
+    pub lambda: Lambda,
+    /// Light subpaths traced (one per pixel).
+    pub light_paths: u32,
+    /// Merging radius.
+    pub radius: f32,
+    /// Weight factor of merging against connection: η_VCM = π r² · light paths, raised to
+    /// the heuristic's power (0 when not merging).
+    mis_vm: f32,
+    /// The inverse, for connections against merging (0 when not connecting).
+    mis_vc: f32,
+    /// 1 / η_VCM: a merge's density-estimation normalisation.
+    vm_normalization: f32,
+}
+
+impl<'a> PassContext<'a> {
+    pub fn new(
+        scene: &'a Scene,
+        camera: &'a Camera,
+        mode: VcmMode,
+        max_depth: u32,
+        lambda: Lambda,
+        radius: f32,
+    ) -> Self {
+        let light_paths = camera.width * camera.height;
+        let eta = PI * radius * radius * light_paths as f32;
+        Self {
+            scene,
+            camera,
+            mode,
+            max_depth,
+            lambda,
+            light_paths,
+            radius,
+            mis_vm: if mode.merges() { mis(eta) } else { 0.0 },
+            mis_vc: if mode.merges() && mode.connects() {
+                mis(1.0 / eta)
+            } else {
+                0.0
+            },
+            vm_normalization: 1.0 / eta,
+        }
+    }
+}
+
+/// The power heuristic's exponent β = 2 applied to a density or a ratio of densities.
+#[inline]
+fn mis(x: f32) -> f32 {
+    x * x
+}
+
+/// Georgiev's recursive quantities of a subpath at its last vertex: from them and the local
+/// densities of a connection or merge, the sum over every other technique of its density
+/// (to the power β) relative to the one used.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct PathMis {
+    /// dVCM: the technique that would sample this vertex from the other side.
+    vcm: f32,
+    /// dVC: the connections further back.
+    vc: f32,
+    /// dVM: the merges further back.
+    vm: f32,
+}
+
+impl PathMis {
+    /// Arrive at a vertex over a segment of length² `dist2` whose direction makes the
+    /// geometric cosine `cos` there; `count_distance`: false only for the first segment from a
+    /// light at infinity, which starts on a disc, not at a point.
+    fn arrive(&mut self, dist2: f32, cos: f32, count_distance: bool) {
+        if count_distance {
+            self.vcm *= mis(dist2);
+        }
+        let inv = 1.0 / mis(cos.max(1e-8));
+        self.vcm *= inv;
+        self.vc *= inv;
+        self.vm *= inv;
+    }
+
+    /// Leave a vertex by a sampled direction: geometric cosine `cos_out` of the direction,
+    /// densities `pdf_forward` (of sampling it) and `pdf_reverse` (of sampling the arrival
+    /// direction from it), both with the continuation probability.
+    fn scatter(&mut self, ctx: &PassContext, cos_out: f32, pdf_forward: f32, pdf_reverse: f32) {
+        let g = mis(cos_out / pdf_forward);
+        self.vc = g * (self.vc * mis(pdf_reverse) + self.vcm + ctx.mis_vm);
+        self.vm = g * (self.vm * mis(pdf_reverse) + self.vcm * ctx.mis_vc + 1.0);
+        self.vcm = mis(1.0 / pdf_forward);
+    }
+
+    /// Leave by a delta lobe: no technique can connect or merge at this vertex, and the
+    /// forward and reverse probabilities cancel.
+    fn scatter_specular(&mut self, cos_out: f32) {
+        self.vcm = 0.0;
+        self.vc *= mis(cos_out);
+        self.vm *= mis(cos_out);
+    }
+}
+
+/// The probability that a subpath goes on from a vertex of material `m`: its albedo at
+/// normal incidence (at most 1), a property of the material alone, so that the reverse
+/// density of a vertex equals the forward one of the subpath from the other side. Glass
+/// always continues (its reflection and refraction together keep almost all light).
+fn continuation(m: &Material) -> f32 {
+    if m.encloses_volume() {
+        return 1.0;
+    }
+    m.albedo(Vec3::Z).max_element().clamp(0.0, 1.0)
+}
+
+/// |w·ns| / |w·ng| for the arrival direction `w` at a light vertex: the shading irradiance
+/// per unit of the subpath's geometric flux density (Veach 1997, §5.3); zero at a grazing
+/// geometric angle.
+fn shading_ratio(w: Vec3, ns: Vec3, ng: Vec3) -> f32 {
+    let g = w.dot(ng).abs();
+    if g > 0.0 { w.dot(ns).abs() / g } else { 0.0 }
+}
+
+/// A vertex of a light subpath on a surface with a density.
+#[derive(Clone, Copy, Debug)]
+pub struct LightVertex {
+    hit: Hit,
+    /// Unit direction toward the previous vertex (where its light came from).
+    wo: Vec3,
+    /// The subpath's throughput here, times [`shading_ratio`] of `wo`: what a BSDF at this
+    /// vertex multiplies.
+    beta: Rgb,
+    mis: PathMis,
+    /// [`continuation`] of the vertex's material.
+    continuation: f32,
+    /// Segments from the light.
+    depth: u32,
+    /// The wavelengths as the subpath arrived (before this vertex's material).
+    lambda_in: Lambda,
+    /// Whether the subpath goes on with its hero wavelength alone after this vertex.
+    hero_only: bool,
+}
+
+impl LightVertex {
+    pub fn position(&self) -> Vec3 {
+        self.hit.p
+    }
+}
+
+/// The factor for the product of a camera and a light subpath's values: 1/3 where both went
+/// on with their hero wavelength alone, which each side tripled (see `Lambda::keep_hero_only`).
+fn hero_tripled_once(camera_hero_only: bool, light_hero_only: bool) -> f32 {
+    if camera_hero_only && light_hero_only {
+        1.0 / 3.0
+    } else {
+        1.0
+    }
+}
