@@ -31,7 +31,7 @@ def render(
     scene: Scene,
     *,
     threads: int | None = None,
-    integrator: Literal["photon", "direct", "path", "sppm", "ppm"] | None = None,
+    integrator: Literal["photon", "direct", "path", "sppm", "ppm", "vcm", "bdpt", "lighttrace"] | None = None,
     width: int | None = None,
     height: int | None = None,
     filter: str | None = None,

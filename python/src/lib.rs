@@ -235,7 +235,7 @@ fn load_scene(py: Python<'_>, name_or_path: PathBuf) -> PyResult<Scene> {
 /// Render `scene` as `photon render` would. Each keyword is a render setting of
 /// `photon::settings::SETTINGS`, by its `[render]` name (`photon render`'s flag with `_`).
 /// Returns (image, aovs): a float32 array (height, width, 3) and a dict of AOV arrays
-/// (direct, caustic, indirect, albedo, normal; empty for sppm and ppm).
+/// (direct, caustic, indirect, albedo, normal; empty for the progressive integrators).
 #[pyfunction]
 #[pyo3(signature = (scene, *, threads = None, **kwargs))]
 fn render<'py>(
@@ -267,7 +267,7 @@ fn render<'py>(
     Ok((image_array(py, &result.image)?, aovs))
 }
 
-/// A progressive render (sppm or ppm) as an iterator of images, one after each pass, driven
+/// A progressive render (sppm, ppm or the vcm family) as an iterator of images, one after each pass, driven
 /// by the library's `Session`: the budget (passes, time), checkpoints and resume are the
 /// command line's. A KeyboardInterrupt abandons the pass in flight and saves the checkpoint
 /// (if the run has one); iterating again continues from the completed passes. When the budget
@@ -372,7 +372,7 @@ fn progressive(
         let job = RenderJob::new(&inner, &spec, options)?;
         if !job.integrator().is_progressive() {
             return Err(photon::Error::InvalidSetting(format!(
-                "progressive renders are sppm or ppm, not {}",
+                "progressive renders are sppm, ppm, vcm, bdpt or lighttrace, not {}",
                 job.integrator().name()
             )));
         }

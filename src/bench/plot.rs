@@ -9,12 +9,15 @@ use std::fmt::Write;
 const PANEL_W: f64 = 420.0;
 const PANEL_H: f64 = 320.0;
 const MARGIN: f64 = 56.0;
-const COLOURS: [(&str, &str); 5] = [
+const COLOURS: [(&str, &str); 8] = [
     ("photon", "#1f77b4"),
     ("sppm", "#d62728"),
     ("ppm", "#2ca02c"),
     ("path", "#9467bd"),
     ("direct", "#8c564b"),
+    ("vcm", "#ff7f0e"),
+    ("bdpt", "#17becf"),
+    ("lighttrace", "#bcbd22"),
 ];
 
 fn colour(integrator: &str) -> &'static str {

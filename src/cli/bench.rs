@@ -15,8 +15,12 @@ pub struct BenchArgs {
     /// Scenes (comma-separated built-in names or scene files).
     #[arg(long, value_delimiter = ',', default_value = "cornell,seed")]
     scenes: Vec<String>,
-    /// Integrators (comma-separated: photon, sppm, ppm, path, direct).
-    #[arg(long, value_delimiter = ',', default_value = "photon,sppm,ppm,path")]
+    /// Integrators (comma-separated: photon, sppm, ppm, vcm, bdpt, lighttrace, path, direct).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "photon,sppm,ppm,vcm,path"
+    )]
     integrators: Vec<String>,
     /// Wall-clock budgets in seconds (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "1,4,12,40")]
@@ -68,7 +72,8 @@ fn parse_integrators(names: &[String]) -> Result<Vec<IntegratorKind>> {
         .iter()
         .map(|n| {
             IntegratorKind::from_name(n).with_context(|| {
-                format!("--integrators: '{n}' is not one of photon, direct, path, sppm, ppm")
+                let names: Vec<&str> = IntegratorKind::ALL.iter().map(|k| k.name()).collect();
+                format!("--integrators: '{n}' is not one of {}", names.join(", "))
             })
         })
         .collect()

@@ -88,12 +88,24 @@ def toml_string(text):
     return '"' + "".join(out) + '"'
 
 
+# The integrators that render in passes, and those of them that trace photons per pass.
+PHOTON_PASSES = ("sppm", "ppm")
+PROGRESSIVE = PHOTON_PASSES + ("vcm", "bdpt", "lighttrace")
+
+
 class PhotonRenderSettings(bpy.types.PropertyGroup):
     integrator: bpy.props.EnumProperty(
         name="Integrator",
         items=[
             ("sppm", "SPPM", "Stochastic progressive photon mapping: converges, progressive"),
             ("ppm", "PPM", "Probabilistic progressive photon mapping: independent passes"),
+            (
+                "vcm",
+                "VCM",
+                "Vertex connection and merging: bidirectional paths and photon merging, progressive",
+            ),
+            ("bdpt", "Bidirectional", "Bidirectional path tracing, progressive"),
+            ("lighttrace", "Light tracing", "Light paths connected to the camera, progressive"),
             ("photon", "Photon mapping", "Two-pass photon mapping with final gathering"),
             ("path", "Path tracing", "Unidirectional path tracing: the reference"),
             ("direct", "Direct light", "Ray-traced direct light only"),
@@ -504,8 +516,10 @@ def options(settings):
         o["spectral"] = True
     if settings.max_depth:
         o["max_depth"] = settings.max_depth
-    if settings.integrator in ("sppm", "ppm"):
+    if settings.integrator in PHOTON_PASSES:
         o.update(passes=settings.passes, photons_per_pass=settings.photons_per_pass)
+    elif settings.integrator in PROGRESSIVE:
+        o["passes"] = settings.passes
     else:
         if settings.spp:
             o["spp"] = settings.spp
@@ -559,7 +573,7 @@ class PhotonRenderEngine(bpy.types.RenderEngine):
             self.show(rgba, w, h)
             shown.append(True)
 
-        if settings.integrator in ("sppm", "ppm"):
+        if settings.integrator in PROGRESSIVE:
             image = None
             for i, image in enumerate(photon_render.progressive(scene, threads=threads, **o)):
                 self.update_progress((i + 1) / settings.passes)
@@ -598,9 +612,10 @@ class RENDER_PT_photon(bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(s, "integrator")
-        if s.integrator in ("sppm", "ppm"):
+        if s.integrator in PROGRESSIVE:
             layout.prop(s, "passes")
-            layout.prop(s, "photons_per_pass")
+            if s.integrator in PHOTON_PASSES:
+                layout.prop(s, "photons_per_pass")
         else:
             layout.prop(s, "spp")
             if s.integrator == "photon":
