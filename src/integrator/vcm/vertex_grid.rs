@@ -12,6 +12,9 @@ pub struct VertexGrid {
     starts: Vec<u32>,
     /// Vertex indices, grouped by bucket, in vertex order within a bucket.
     order: Vec<u32>,
+    /// The vertices' positions in the order of `order`: the range search scans these
+    /// contiguous 12 bytes and reads a whole vertex only where it merges.
+    positions: Vec<Vec3>,
     mask: u64,
 }
 
@@ -23,6 +26,7 @@ impl VertexGrid {
             inv_cell: 1.0 / (2.0 * radius),
             starts: vec![0; buckets + 1],
             order: vec![0; vertices.len()],
+            positions: Vec::new(),
             mask: buckets as u64 - 1,
         };
         let keys: Vec<u32> = vertices
@@ -41,6 +45,11 @@ impl VertexGrid {
             grid.order[next[k as usize] as usize] = i as u32;
             next[k as usize] += 1;
         }
+        grid.positions = grid
+            .order
+            .iter()
+            .map(|&i| vertices[i as usize].position())
+            .collect();
         grid
     }
 
@@ -79,11 +88,13 @@ impl VertexGrid {
                     }
                     seen[k] = b;
                     k += 1;
-                    let (s, e) = (self.starts[b as usize], self.starts[b as usize + 1]);
-                    for &i in &self.order[s as usize..e as usize] {
-                        let v = &vertices[i as usize];
-                        if (v.position() - p).length_squared() <= self.radius * self.radius {
-                            visit(v);
+                    let (s, e) = (
+                        self.starts[b as usize] as usize,
+                        self.starts[b as usize + 1] as usize,
+                    );
+                    for (q, &i) in self.positions[s..e].iter().zip(&self.order[s..e]) {
+                        if (*q - p).length_squared() <= self.radius * self.radius {
+                            visit(&vertices[i as usize]);
                         }
                     }
                 }
