@@ -10,6 +10,9 @@ crop (by default the glossy Cornell box's caustic under its rough glass sphere).
     python validation/equal_time.py --scene env-spheres --crop 0,0,128,128 --budgets 2 8
     python validation/equal_time.py --scene volumetric-caustic --integrators sppm ppm path \
         --crop 52,60,76,118 --budgets 12 60
+    python validation/equal_time.py --scene cornell --scene-file cornell \
+        --xml ../shared/scenes/cornell-box/cornell.xml --reference bench/references/cornell.exr \
+        --integrators vcm sppm photon path --budgets 12 60 --crop 290,326,390,344
 
 Budgets are met by calibration: a short run measures the fixed cost (photon tracing, JIT) and
 the cost per sample, and the real run asks for the samples that fill the budget (`sppm` and
@@ -63,7 +66,7 @@ def photon_run(scene, integrator, args, out):
 
 def photon_at(scene, integrator, budget, out):
     """Render with Photon's `integrator` in about `budget` seconds."""
-    if integrator in ("sppm", "ppm"):
+    if integrator in ("sppm", "ppm", "vcm", "bdpt", "lighttrace"):
         secs = photon_run(scene, integrator, ["--time", str(budget)], out)
         return secs, f"--time {budget}"
     # Calibrate: fixed cost from a 1-spp run, per-sample cost from a 5-spp run.
@@ -107,13 +110,17 @@ def main():
     p.add_argument("--crop", default="90,100,112,110", help="x0,y0,x1,y1 (the caustic by default)")
     p.add_argument("--no-mitsuba", action="store_true")
     p.add_argument("--integrators", nargs="+", default=["photon", "sppm", "path"])
+    p.add_argument("--scene-file", help="a scene outside the suite (a file or a built-in name)")
+    p.add_argument("--xml", help="its Mitsuba twin")
+    p.add_argument("--reference", help="its reference")
     a = p.parse_args()
-    scene = os.path.join(HERE, a.scene, f"{a.scene}.toml")
-    xml = os.path.join(HERE, a.scene, f"{a.scene}.xml")
+    scene = a.scene_file or os.path.join(HERE, a.scene, f"{a.scene}.toml")
+    xml = a.xml or os.path.join(HERE, a.scene, f"{a.scene}.xml")
     # A scene made for this study keeps its reference apart from the suite's.
     reference = os.path.join(HERE, a.scene, "study-reference.exr")
     if not os.path.exists(reference):
         reference = os.path.join(HERE, a.scene, "reference.exr")
+    reference = a.reference or reference
     if not a.no_mitsuba:
         import mitsuba as mi
 
@@ -126,8 +133,10 @@ def main():
         gltf_pbr.register()
         mi.set_log_level(mi.LogLevel.Error)
         print(f"Mitsuba {mi.__version__} ({variant})", file=sys.stderr)
-    with open(xml) as f:
-        m = re.search(r'<integrator\s+type="(\w+)"', f.read())
+    m = None
+    if not a.no_mitsuba:
+        with open(xml) as f:
+            m = re.search(r'<integrator\s+type="(\w+)"', f.read())
     mitsuba_name = f"Mitsuba 3 {m.group(1) if m else 'path'}"
     rows = []
     with tempfile.TemporaryDirectory() as tmp:

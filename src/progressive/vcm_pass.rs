@@ -13,6 +13,7 @@ use crate::integrator::vcm::{
     PassContext, VcmMode, VertexGrid, camera_sample, trace_light_subpaths,
 };
 use crate::math::{Rgb, Vec2};
+use crate::photon::grid::QueryScratch;
 use crate::sampling::halton::PassJitter;
 use crate::scene::Scene;
 use crate::spectrum::{Lambda, Wavelengths};
@@ -68,17 +69,12 @@ pub(super) fn run(
             if stopped() {
                 return stats;
             }
+            let mut scratch = QueryScratch::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let (ray, mut rng) = camera_ray(&camera, c, &jitter, pass, x, y);
                 let merge = grid.as_ref().map(|g| (g, light.vertices.as_slice()));
-                *px = camera_sample(
-                    &ctx,
-                    ray,
-                    light.of(y * width + x),
-                    merge,
-                    &mut rng,
-                    &mut stats,
-                );
+                let path = light.of(y * width + x);
+                *px = camera_sample(&ctx, ray, path, merge, &mut scratch, &mut rng, &mut stats);
             }
             stats
         })

@@ -9,6 +9,7 @@ use crate::integrator::RayStats;
 use crate::light::Light;
 use crate::material::{Material, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
+use crate::photon::grid::QueryScratch;
 use crate::sampling::Rng;
 use crate::scene::{Hit, NO_LIGHT};
 
@@ -33,6 +34,7 @@ pub fn camera_sample(
     ray: Ray,
     light_path: &[LightVertex],
     merge: Option<(&VertexGrid, &[LightVertex])>,
+    scratch: &mut QueryScratch,
     rng: &mut Rng,
     stats: &mut RayStats,
 ) -> Rgb {
@@ -115,7 +117,7 @@ pub fn camera_sample(
                 l += beta * connect(ctx, &v, y, stats);
             }
             if let Some((grid, vertices)) = merge {
-                l += beta * merged(ctx, &v, grid, vertices) * ctx.vm_normalization;
+                l += beta * merged(ctx, &v, grid, vertices, scratch) * ctx.vm_normalization;
             }
         }
         let u_lobe = rng.next_f32();
@@ -302,10 +304,16 @@ fn connect(ctx: &PassContext, x: &CameraVertex, y: &LightVertex, stats: &mut Ray
 /// The merges at a camera vertex: Σ f · β over the light vertices within the radius on the
 /// same side of the same kind of surface, each weighed against the other techniques
 /// (before the density estimate's 1 / (π r² N)).
-fn merged(ctx: &PassContext, x: &CameraVertex, grid: &VertexGrid, vertices: &[LightVertex]) -> Rgb {
+fn merged(
+    ctx: &PassContext,
+    x: &CameraVertex,
+    grid: &VertexGrid,
+    vertices: &[LightVertex],
+    scratch: &mut QueryScratch,
+) -> Rgb {
     let mut sum = Rgb::ZERO;
     let ng = x.hit.ng_facing(x.frame.to_world(x.wo_local));
-    grid.for_each_near(x.hit.p, vertices, |y| {
+    grid.for_each_near(x.hit.p, vertices, scratch, |y| {
         if y.depth + x.depth > ctx.max_depth + 1 || y.hit.ng_facing(y.wo).dot(ng) <= 0.0 {
             return;
         }

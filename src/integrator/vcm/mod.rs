@@ -30,15 +30,14 @@
 
 mod camera_path;
 mod light_path;
-mod vertex_grid;
 
 pub use camera_path::camera_sample;
 pub use light_path::{LightSubpaths, trace_light_subpaths};
-pub use vertex_grid::VertexGrid;
 
 use crate::camera::Camera;
 use crate::material::Material;
 use crate::math::{Rgb, Vec3};
+use crate::photon::grid::{Located, PhotonGrid, QueryScratch};
 use crate::scene::{Hit, Scene};
 use crate::spectrum::Lambda;
 use std::f32::consts::PI;
@@ -208,9 +207,57 @@ pub struct LightVertex {
     hero_only: bool,
 }
 
-impl LightVertex {
-    pub fn position(&self) -> Vec3 {
-        self.hit.p
+/// A light vertex in the merging range search: its position and its index among the pass's
+/// vertices (16 bytes, so a search scans contiguous positions and reads a whole vertex only
+/// where it merges).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct VertexEntry {
+    position: Vec3,
+    index: u32,
+}
+
+impl Located for VertexEntry {
+    #[inline]
+    fn location(&self) -> Vec3 {
+        self.position
+    }
+}
+
+/// The pass's light vertices in a hashed grid for merging: cells twice the radius wide, so a
+/// query visits at most 8 cells.
+pub struct VertexGrid {
+    grid: PhotonGrid<VertexEntry>,
+    radius: f32,
+}
+
+impl VertexGrid {
+    pub fn new(vertices: &[LightVertex], radius: f32) -> Self {
+        let entries = vertices
+            .iter()
+            .enumerate()
+            .map(|(i, v)| VertexEntry {
+                position: v.hit.p,
+                index: i as u32,
+            })
+            .collect();
+        Self {
+            grid: PhotonGrid::build(entries, 2.0 * radius),
+            radius,
+        }
+    }
+
+    /// Calls `visit` with every vertex within the radius of `p`, in a fixed order.
+    fn for_each_near(
+        &self,
+        p: Vec3,
+        vertices: &[LightVertex],
+        scratch: &mut QueryScratch,
+        mut visit: impl FnMut(&LightVertex),
+    ) {
+        self.grid
+            .for_each_within(p, self.radius, scratch, &mut |e, _| {
+                visit(&vertices[e.index as usize]);
+            });
     }
 }
 
