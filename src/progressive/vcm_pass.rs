@@ -72,8 +72,8 @@ pub(super) fn run(
             let mut scratch = QueryScratch::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let (ray, mut rng) = camera_ray(&camera, c, &jitter, pass, x, y);
-                let merge = grid.as_ref().map(|g| (g, light.vertices.as_slice()));
                 let path = light.of(y * width + x);
+                let merge = grid.as_ref();
                 *px = camera_sample(&ctx, ray, path, merge, &mut scratch, &mut rng, &mut stats);
             }
             stats

@@ -33,7 +33,7 @@ pub fn camera_sample(
     ctx: &PassContext,
     ray: Ray,
     light_path: &[LightVertex],
-    merge: Option<(&VertexGrid, &[LightVertex])>,
+    merge: Option<&VertexGrid>,
     scratch: &mut QueryScratch,
     rng: &mut Rng,
     stats: &mut RayStats,
@@ -116,8 +116,8 @@ pub fn camera_sample(
                 }
                 l += beta * connect(ctx, &v, y, stats);
             }
-            if let Some((grid, vertices)) = merge {
-                l += beta * merged(ctx, &v, grid, vertices, scratch) * ctx.vm_normalization;
+            if let Some(grid) = merge {
+                l += beta * merged(ctx, &v, grid, scratch) * ctx.vm_normalization;
             }
         }
         let u_lobe = rng.next_f32();
@@ -308,13 +308,12 @@ fn merged(
     ctx: &PassContext,
     x: &CameraVertex,
     grid: &VertexGrid,
-    vertices: &[LightVertex],
     scratch: &mut QueryScratch,
 ) -> Rgb {
     let mut sum = Rgb::ZERO;
     let ng = x.hit.ng_facing(x.frame.to_world(x.wo_local));
-    grid.for_each_near(x.hit.p, vertices, scratch, |y| {
-        if y.depth + x.depth > ctx.max_depth + 1 || y.hit.ng_facing(y.wo).dot(ng) <= 0.0 {
+    grid.for_each_near(x.hit.p, scratch, |y| {
+        if y.depth + x.depth > ctx.max_depth + 1 || y.ng.dot(ng) <= 0.0 {
             return;
         }
         let wi = x.frame.to_local(y.wo);
@@ -324,7 +323,7 @@ fn merged(
         }
         let camera_pdf = x.material.pdf(x.wo_local, wi) * x.continuation;
         let reverse = x.material.pdf(wi, x.wo_local) * y.continuation;
-        let w_light = y.mis.vcm * ctx.mis_vc + y.mis.vm * mis(camera_pdf);
+        let w_light = y.vcm * ctx.mis_vc + y.vm * mis(camera_pdf);
         let w_camera = x.mis.vcm * ctx.mis_vc + x.mis.vm * mis(reverse);
         let weight = 1.0 / (w_light + 1.0 + w_camera);
         sum += f * y.beta * (weight * hero_tripled_once(x.hero_only, y.hero_only));

@@ -207,16 +207,25 @@ pub struct LightVertex {
     hero_only: bool,
 }
 
-/// A light vertex in the merging range search: its position and its index among the pass's
-/// vertices (16 bytes, so a search scans contiguous positions and reads a whole vertex only
-/// where it merges).
+/// What merging reads of a light vertex, kept in the grid's buckets so that a search reads
+/// contiguous memory (a whole [`LightVertex`] is 2.5× larger, and reading it at random was
+/// most of a pass).
 #[derive(Clone, Copy, Debug, Default)]
-pub struct VertexEntry {
+pub struct MergeVertex {
     position: Vec3,
-    index: u32,
+    /// Toward the previous vertex.
+    wo: Vec3,
+    /// The geometric normal on the side of `wo`.
+    ng: Vec3,
+    beta: Rgb,
+    vcm: f32,
+    vm: f32,
+    continuation: f32,
+    depth: u32,
+    hero_only: bool,
 }
 
-impl Located for VertexEntry {
+impl Located for MergeVertex {
     #[inline]
     fn location(&self) -> Vec3 {
         self.position
@@ -226,7 +235,7 @@ impl Located for VertexEntry {
 /// The pass's light vertices in a hashed grid for merging: cells twice the radius wide, so a
 /// query visits at most 8 cells.
 pub struct VertexGrid {
-    grid: PhotonGrid<VertexEntry>,
+    grid: PhotonGrid<MergeVertex>,
     radius: f32,
 }
 
@@ -234,10 +243,16 @@ impl VertexGrid {
     pub fn new(vertices: &[LightVertex], radius: f32) -> Self {
         let entries = vertices
             .iter()
-            .enumerate()
-            .map(|(i, v)| VertexEntry {
+            .map(|v| MergeVertex {
                 position: v.hit.p,
-                index: i as u32,
+                wo: v.wo,
+                ng: v.hit.ng_facing(v.wo),
+                beta: v.beta,
+                vcm: v.mis.vcm,
+                vm: v.mis.vm,
+                continuation: v.continuation,
+                depth: v.depth,
+                hero_only: v.hero_only,
             })
             .collect();
         Self {
@@ -250,14 +265,11 @@ impl VertexGrid {
     fn for_each_near(
         &self,
         p: Vec3,
-        vertices: &[LightVertex],
         scratch: &mut QueryScratch,
-        mut visit: impl FnMut(&LightVertex),
+        mut visit: impl FnMut(&MergeVertex),
     ) {
         self.grid
-            .for_each_within(p, self.radius, scratch, &mut |e, _| {
-                visit(&vertices[e.index as usize]);
-            });
+            .for_each_within(p, self.radius, scratch, &mut |v, _| visit(v));
     }
 }
 
