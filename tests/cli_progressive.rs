@@ -114,7 +114,7 @@ fn progressive_resume_and_merge_are_byte_identical() {
             "-o",
             "s.part",
         ]),
-        "--pass-range 0..2: the sppm integrator does not take it (it is for ppm)",
+        "--pass-range 0..2: the sppm integrator does not take it (it is for ppm, vcm, bdpt and lighttrace)",
     );
     assert_usage_error(
         &run(&["--integrator", "ppm", "-o", "p.png"]),
