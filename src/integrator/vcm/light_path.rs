@@ -86,7 +86,7 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
     };
     let pdf_emit = light.pdf_emit(e.origin, e.normal, e.dir) * pick;
     let pdf_direct = light.pdf_direct_area(e.dir) * pick;
-    if !(pdf_emit > 0.0) || !e.flux.is_finite() {
+    if pdf_emit.is_nan() || pdf_emit <= 0.0 || !e.flux.is_finite() {
         return;
     }
     // The emitted flux is the light's radiance (or intensity) over the density of its origin
@@ -200,7 +200,7 @@ fn connect_to_camera(
     let cos_here = w.dot(v.hit.ng).abs();
     // The camera's density of the vertex's position, per unit area of the surface.
     let camera_pdf_area = camera.pixel_solid_angle_density(-w) * cos_here / dist2;
-    if !(camera_pdf_area > 0.0) {
+    if camera_pdf_area.is_nan() || camera_pdf_area <= 0.0 {
         return;
     }
     let weight = if ctx.mode == VcmMode::LightTrace {
