@@ -90,20 +90,20 @@ def cornell_box():
     return scene
 
 
-def use_photon(scene, passes=PASSES):
-    """Render `scene` with the Photon engine (sppm) to linear 32-bit EXR."""
+def use_photon(scene, passes=PASSES, integrator="sppm"):
+    """Render `scene` with the Photon engine (sppm unless told) to linear 32-bit EXR."""
     scene.render.engine = "PHOTON"
     s = scene.photon
-    s.integrator, s.passes, s.photons_per_pass = "sppm", passes, PHOTONS
+    s.integrator, s.passes, s.photons_per_pass = integrator, passes, PHOTONS
     scene.view_settings.view_transform = "Standard"
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
 
 
-def render_both(scene, tmp_path, passes=PASSES):
+def render_both(scene, tmp_path, passes=PASSES, integrator="sppm"):
     """The scene through the Photon engine (F12's path) and through `photon render` of
     Blender's glTF export of it; returns the two EXR paths."""
-    use_photon(scene, passes)
+    use_photon(scene, passes, integrator)
     engine_out = tmp_path / "engine.exr"
     scene.render.filepath = str(engine_out)
     bpy.ops.render.render(write_still=True)
@@ -114,10 +114,10 @@ def render_both(scene, tmp_path, passes=PASSES):
         export_cameras=True, export_lights=True,
     )
     cli_out = tmp_path / "cli.exr"
+    photons = ["--photons-per-pass", str(PHOTONS)] if integrator in ("sppm", "ppm") else []
     subprocess.run(
-        [photon_cli(), "render", str(glb), "--integrator", "sppm", "--passes", str(passes),
-         "--photons-per-pass", str(PHOTONS), "--width", str(SIZE), "--height", str(SIZE),
-         "-q", "-o", str(cli_out)],
+        [photon_cli(), "render", str(glb), "--integrator", integrator, "--passes", str(passes),
+         *photons, "--width", str(SIZE), "--height", str(SIZE), "-q", "-o", str(cli_out)],
         check=True,
     )
     return engine_out, cli_out
@@ -132,13 +132,13 @@ def compare(a, b):
     return out, float(overall[2]), float(overall[3])
 
 
-def assert_both_routes_agree(build, tmp_path):
+def assert_both_routes_agree(build, tmp_path, integrator="sppm", passes=PASSES):
     """Build a scene with the add-on registered, render it through the engine and through
     Blender's glTF export and the CLI: the same scene by two routes (the add-on's own camera
-    and light mapping; Blender's export of them), equal within the noise of the SPPM passes."""
+    and light mapping; Blender's export of them), equal within the noise of the passes."""
     photon_blender.register()
     try:
-        engine_out, cli_out = render_both(build(), tmp_path)
+        engine_out, cli_out = render_both(build(), tmp_path, passes, integrator)
     finally:
         photon_blender.unregister()
     table, rel_mse, mean_ratio = compare(engine_out, cli_out)
@@ -149,6 +149,14 @@ def assert_both_routes_agree(build, tmp_path):
 
 def test_the_photon_engine_renders_the_cornell_box_like_the_cli_renders_its_gltf(tmp_path):
     assert_both_routes_agree(cornell_box, tmp_path)
+
+
+def test_the_engine_renders_with_vertex_connection_and_merging_like_the_cli(tmp_path):
+    # The Integrator menu's VCM: passes without photons per pass (one light path a pixel).
+    assert_both_routes_agree(cornell_box, tmp_path, integrator="vcm", passes=64)
+    s = types.SimpleNamespace(integrator="vcm", seed=0, max_depth=0, spp=0, spectral=False,
+                              passes=16, photons_per_pass=PHOTONS)
+    assert photon_blender.options(s) == {"integrator": "vcm", "seed": 0, "passes": 16}
 
 
 def test_spot_and_sun_lights_map_as_blenders_gltf_export_does(tmp_path):
