@@ -145,6 +145,7 @@ const VCM_BOUNDS: &[(&str, f64)] = &[
     ("alpha-fence", 0.002),
     ("curved-ceiling", 0.001),
     ("directional", 0.0008),
+    ("door-ajar", 0.0025),
     ("env-spheres", 0.004),
     ("flush-light", 0.003),
     ("glass-caustics", 0.012),
@@ -152,8 +153,10 @@ const VCM_BOUNDS: &[(&str, f64)] = &[
     ("glossy-floor-spot", 0.0015),
     ("grazing-area", 0.0012),
     ("indirect-only", 0.0015),
+    ("lamp-shade", 0.002),
     ("light-strip", 0.002),
     ("millimetres", 0.0015),
+    ("mirror-caustic", 0.006),
     ("normal-mapped", 0.003),
     ("point-light", 0.0015),
     ("rough-glass", 0.002),
@@ -216,6 +219,7 @@ fn bdpt_and_light_tracing_alone_match_their_references() {
         ("directional", validate::Method::LightTrace, 0.005),
         ("indirect-only", validate::Method::LightTrace, 0.004),
         ("textured-mesh", validate::Method::LightTrace, 0.006),
+        ("lamp-shade", validate::Method::LightTrace, 0.0045),
     ] {
         let case = cases.iter().find(|c| c.name == name).expect("scene");
         let loaded = load_case(case, budget.size).expect("loads");

@@ -20,7 +20,8 @@ Conventions (checked scene by scene against Photon's `path` integrator, see READ
 - quads are parallelograms here, written as Mitsuba `rectangle`s whose to_world columns are the
   two half-edges and the normal (v1 - v0) x (v3 - v0): the side Photon's one-sided emitters light.
 - emitters carry a black diffuse BSDF in Mitsuba (Photon lights without a material reflect
-  nothing; Mitsuba's default BSDF is a 0.5 grey diffuse).
+  nothing; Mitsuba's default BSDF is a 0.5 grey diffuse), or their material's when they have one.
+  A two-sided quad light with a material is two rectangles 0.1 mm either side of the quad.
 - spot lights: a hard cone (Photon `falloff = 0`, Mitsuba `beam_width = cutoff_angle`): the two
   soft-edge profiles differ (smoothstep in cos theta vs linear in angle) and cannot be matched.
 - meshes without normals are flat in Photon: Mitsuba gets `face_normals = true`.
@@ -341,13 +342,14 @@ class Scene:
         kind, value = emission
         return [f"emission = {{ {kind} = {tvec(value)} }}"]
 
-    def _xml_emitter(self, radiance):
+    def _xml_emitter(self, radiance, material=None):
+        """The area emitter, with the emitting shape's BSDF: its material's if it has one (the
+        emitter reflects, as in Photon), else black."""
         if radiance is None:
             return ""
-        return (
-            '    <emitter type="area"><rgb name="radiance" value="%s"/></emitter>\n'
-            '    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>\n' % xvec(radiance)
-        )
+        bsdf = (f'    <ref id="{material}"/>\n' if material
+                else '    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>\n')
+        return '    <emitter type="area"><rgb name="radiance" value="%s"/></emitter>\n' % xvec(radiance) + bsdf
 
     def _xml_bsdf(self, material, radiance, interface=False):
         if radiance is not None:
@@ -370,7 +372,9 @@ class Scene:
     def quad(self, v, material=None, emission=None, light=False, two_sided=False):
         """A parallelogram v0, v1, v2, v3 (counter-clockwise seen from its front).
         `light=True` writes it as a [[lights]] quad (emission given as power or radiance);
-        `two_sided=True` makes it emit from both faces (Mitsuba: two rectangles back to back)."""
+        `two_sided=True` makes it emit from both faces (Mitsuba: two rectangles back to back; with
+        a `material`, which they reflect, 0.1 mm either side of the quad, as blender_scenes.py
+        writes its two-sided lamps, so that a ray finds the face it arrives at)."""
         v = [list(map(float, p)) for p in v]
         e1, e3 = sub(v[1], v[0]), sub(v[3], v[0])
         assert norm(sub(add(v[0], add(e1, e3)), v[2])) < 1e-9 * max(1.0, norm(e1)), "not a parallelogram"
@@ -399,12 +403,20 @@ class Scene:
                 '<shape type="rectangle">\n'
                 f'    <transform name="to_world"><matrix value="{xmatrix(matrix)}"/></transform>\n'
                 + self._xml_bsdf(material, rad)
-                + self._xml_emitter(rad)
+                + self._xml_emitter(rad, material)
                 + "</shape>"
             )
 
-        xml = rectangle(m)
-        if two_sided:
+        if two_sided and material:
+            # Two reflecting faces: coincident, a ray could stop at the back one (no emission
+            # toward it) or leave one face to meet the other at once. 0.1 mm either side.
+            front = add(c, mul(n, 1e-4))
+            back = sub(c, mul(n, 1e-4))
+            xml = rectangle([[a[i], b[i], n[i], front[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]])
+            xml += "\n" + rectangle([[a[i], b[i], -n[i], back[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]])
+        else:
+            xml = rectangle(m)
+        if two_sided and not material:
             # The back face: the same rectangle with its normal (the matrix's z column) negated.
             xml += "\n" + rectangle([[a[i], b[i], -n[i], c[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]])
         (self.lights if light else self.shapes).append((toml, xml))
@@ -426,7 +438,7 @@ class Scene:
             f'    <point name="center" value="{xvec(center)}"/>\n'
             f'    <float name="radius" value="{fnum(radius)}"/>\n'
             + self._xml_bsdf(material, rad, interface)
-            + self._xml_emitter(rad)
+            + self._xml_emitter(rad, material)
             + self._xml_media(interior, exterior)
             + "</shape>"
         )
@@ -1479,12 +1491,121 @@ rays stop at the glass): the reference is far from converged there; see README.m
     return s
 
 
+# --------------------------------------------------------------------------------------------
+# Light paths that favour one technique each (vertex connection and merging, `--integrator vcm`):
+# a caustic seen only in a mirror (merging), a lamp in a shade and a door ajar (connecting light
+# subpaths). Hard for a path tracer: their references need many samples (README.md).
+
+
+def prism(s, centre, apothem, y0, y1, material, sides=8):
+    """An open-ended vertical prism of `sides` quads (a lamp shade or a can) around the vertical
+    line through `centre` (x, z), from y0 to y1: no top, no bottom. Each quad's front faces out."""
+    cx, cz = centre
+    r = apothem / math.cos(math.pi / sides)  # to the corners
+    for k in range(sides):
+        a0 = 2 * math.pi * (k - 0.5) / sides
+        a1 = 2 * math.pi * (k + 0.5) / sides
+        p0 = [cx + r * math.cos(a0), cz + r * math.sin(a0)]
+        p1 = [cx + r * math.cos(a1), cz + r * math.sin(a1)]
+        s.quad([[p1[0], y0, p1[1]], [p0[0], y0, p0[1]], [p0[0], y1, p0[1]], [p1[0], y1, p1[1]]], material)
+
+
+def mirror_caustic():
+    s = Scene("mirror-caustic", """
+A caustic seen only in a mirror (specular-diffuse-specular light): a closed room, the camera
+inside by the front wall looking at a mirror (reflectance 0.8) on the back wall that fills much
+of the frame. Behind and below the camera, out of its direct view, a glass sphere (ior 1.5)
+hangs above the floor under a small two-sided quad light (0.4 x 0.4, its own material white):
+the sphere focuses the light into a caustic on the floor inside its shadow, and the camera sees
+floor, caustic and sphere only in the mirror (the light itself is above the mirror's view).
+The light also shines on the mirror, which throws it back on the floor around the sphere: light
+the camera sees in the mirror after a diffuse bounce between two mirror reflections,
+specular-diffuse-specular again. The light's top face lights the ceiling. A path tracer finds both only when a
+diffuse bounce from the floor, seen in the mirror, happens to reach the light through the glass
+or the mirror; a light tracer cannot connect the floor to the camera through the mirror. (A
+smaller light, kept off the mirror in a black can, left the reference far from converged.)""")
+    room_materials(s)
+    s.mirror("mirror", 0.8)
+    s.glass("glass", 1.5)
+    s.set_camera([0.0, 1.25, 0.95], [0.0, 1.1, -1.0], fov=50.0)
+    room(s, front=True)
+    s.quad([[-0.7, 0.35, -0.99], [0.7, 0.35, -0.99], [0.7, 1.45, -0.99], [-0.7, 1.45, -0.99]], "mirror")
+    cx, cz = 0.0, 0.6
+    s.sphere([cx, 0.7, cz], 0.25, "glass")
+    h, y = 0.2, 1.7
+    s.quad([[cx - h, y, cz - h], [cx + h, y, cz - h], [cx + h, y, cz + h], [cx - h, y, cz + h]],
+           "white", emission=("power", 20.0), light=True, two_sided=True)
+    s.ref_spp = 90112
+    return s
+
+
+def lamp_shade():
+    s = Scene("lamp-shade", """
+A light inside a lamp shade: a bulb (an emitting sphere, radius 0.07, its own material white) at
+the centre of an open-ended octagonal shade (a diffuse two-sided prism, 0.7 across, 0.4 tall,
+warm) hanging in the middle of a Cornell-like room (open at the front): about half of the bulb's
+light leaves straight through the shade's two openings (a pool of light on the floor, another on
+the ceiling), the rest after bouncing inside the shade. The camera, below the shade, sees its
+outside and a strip of its lit inside, not the bulb. For a path tracer the light bounced inside
+the shade is found only when a diffuse bounce from the room enters an opening (a narrower,
+taller shade left the reference far from converged).""")
+    room_materials(s)
+    s.diffuse("shade", [0.7, 0.6, 0.4])
+    s.diffuse("blue", [0.15, 0.25, 0.7])
+    std_camera(s)
+    room(s)
+    prism(s, (0.0, 0.0), 0.35, 1.25, 1.65, "shade")
+    s.sphere([0.0, 1.45, 0.0], 0.07, "white", emission=("power", 30.0))
+    s.box([0.5, 0.8, 0.5], "white", rotate_y=20.0, translate=[-0.45, 0.4, -0.35])
+    s.sphere([0.45, 0.3, 0.15], 0.3, "blue")
+    s.ref_spp = 81920
+    return s
+
+
+def door_ajar():
+    s = Scene("door-ajar", """
+Veach's door ajar: two closed rooms (each 2 x 2 x 2) share a wall with a doorway (0.6 x 1.6)
+whose door (a box 0.6 wide, 4 cm thick, reaching 10 cm above the doorway behind the lintel and
+through the floor) stands open 40 degrees into the far room, hinged at the doorway's right edge.
+The only light, a two-sided vertical quad light (0.3 x 0.3, facing the side walls, its own
+material white), stands in the far room left of the door: the near room is lit only through the
+wedge-shaped gap between the door's free edge and the doorway, by a beam on its right wall and
+floor and by light bounced in the far room. The camera, in the near room's front left corner,
+looks at the door and the lit wall. (Opened 10 to 30 degrees, the path-traced reference needed
+far more than 100 000 samples per pixel.)""")
+    room_materials(s)
+    s.diffuse("door", [0.6, 0.45, 0.3])
+    s.set_camera([-0.75, 1.1, 0.9], [0.6, 0.6, -0.7], fov=60.0)
+    z0, zw, z1 = -3.0, -1.0, 1.0  # far room's back wall, the dividing wall, near room's front wall
+    room(s, z0=z0, z1=z1, front=True)
+    xa, xb, top = 0.15, 0.75, 1.6  # the doorway
+    # The dividing wall around the doorway.
+    s.quad([[-1.0, 0.0, zw], [xa, 0.0, zw], [xa, 2.0, zw], [-1.0, 2.0, zw]], "white")
+    s.quad([[xb, 0.0, zw], [1.0, 0.0, zw], [1.0, 2.0, zw], [xb, 2.0, zw]], "white")
+    s.quad([[xa, top, zw], [xb, top, zw], [xb, 2.0, zw], [xa, 2.0, zw]], "white")
+    # The door: its near face's hinge-side edge stays on the hinge (xb, zw); turned by -angle
+    # about +y, its free edge swings into the far room.
+    angle, w, t = 40.0, xb - xa, 0.04
+    size = [w, top + 0.1 + 0.01, t]
+    c, sn = math.cos(math.radians(-angle)), math.sin(math.radians(-angle))
+    corner = [w / 2, t / 2]  # the near face's hinge-side edge, from the box's centre (x, z)
+    centre = [round(xb - (c * corner[0] + sn * corner[1]), 9),
+              round((top + 0.1 - 0.01) / 2, 9),
+              round(zw - (-sn * corner[0] + c * corner[1]), 9)]
+    s.box(size, "door", rotate_y=-angle, translate=centre)
+    h, lx, ly, lz = 0.15, -0.6, 1.0, -2.0
+    s.quad([[lx, ly - h, lz + h], [lx, ly - h, lz - h], [lx, ly + h, lz - h], [lx, ly + h, lz + h]],
+           "white", emission=("power", 70.0), light=True, two_sided=True)
+    s.ref_spp = 106496
+    return s
+
+
 SCENES = {
     f.__name__.replace("_", "-"): f
     for f in [point_light, spot_light, directional, grazing_area, curved_ceiling, glass_caustics,
               indirect_only, textured_mesh, millimetres, light_strip, glossy_cornell, env_spheres,
               glossy_floor_spot, fog_spot, fog_box, absorbing_water, thick_medium, volumetric_caustic,
-              smoke_grid]
+              smoke_grid, mirror_caustic, lamp_shade, door_ajar]
 }
 
 

@@ -196,8 +196,11 @@ fn report(
     ending: Ending,
 ) -> Result<()> {
     let kept = ending == Ending::Interrupted || out.keep_checkpoint;
+    // The vcm family traces light paths (one a pixel) where sppm and ppm trace photons.
+    let vcm = state.config.method.vcm_mode().is_some();
+    let traced = if vcm { "light paths" } else { "photons" };
     eprintln!(
-        "photon: {} {}×{} {} passes {}..{} ({}) in {secs:.2} s: {:.2} M photons/s, {:.2} M rays/s → {}{}",
+        "photon: {} {}×{} {} passes {}..{} ({}) in {secs:.2} s: {:.2} M {traced}/s, {:.2} M rays/s → {}{}",
         scene.name,
         state.config.width,
         state.config.height,
@@ -215,10 +218,17 @@ fn report(
         }
     );
     let split = &totals.seconds;
-    eprintln!(
-        "photon: passes spent {:.2} s on camera paths, {:.2} s tracing photons, {:.2} s gathering",
-        split.camera, split.photons, split.gather
-    );
+    if vcm {
+        eprintln!(
+            "photon: passes spent {:.2} s on camera paths (with their connections and merges), {:.2} s tracing light paths",
+            split.camera, split.photons
+        );
+    } else {
+        eprintln!(
+            "photon: passes spent {:.2} s on camera paths, {:.2} s tracing photons, {:.2} s gathering",
+            split.camera, split.photons, split.gather
+        );
+    }
     if ending == Ending::Interrupted {
         eprintln!(
             "photon: interrupted after pass {}; continue with: photon render --resume {}",
