@@ -3,7 +3,8 @@
 //! emission each subpath finds.
 
 use super::{
-    LightVertex, PassContext, PathMis, VcmMode, VertexGrid, continuation, hero_tripled_once, mis,
+    LightVertex, PassContext, PathMis, VcmMode, VertexGrid, continuation, continue_subpath,
+    hero_tripled_once, mis,
 };
 use crate::integrator::RayStats;
 use crate::light::Light;
@@ -120,22 +121,20 @@ pub fn camera_sample(
                 l += beta * merged(ctx, &v, grid, scratch) * ctx.vm_normalization;
             }
         }
-        let u_lobe = rng.next_f32();
-        let Some(s) = material.sample(wo_local, u_lobe, rng.next_2d(), TransportMode::Radiance)
-        else {
+        let mode = TransportMode::Radiance;
+        let Some((s, wi)) = continue_subpath(
+            ctx,
+            &material,
+            &frame,
+            hit.ng,
+            wo_local,
+            q,
+            mode,
+            rng,
+            &mut path_mis,
+        ) else {
             break;
         };
-        if rng.next_f32() >= q {
-            break;
-        }
-        let wi = frame.to_world(s.wi);
-        let cos_out = wi.dot(hit.ng).abs();
-        if s.is_specular() {
-            path_mis.scatter_specular(cos_out);
-        } else {
-            let reverse = material.pdf(s.wi, wo_local) * q;
-            path_mis.scatter(ctx, cos_out, s.pdf * q, reverse);
-        }
         specular_only &= s.is_specular();
         beta *= s.weight / q;
         if !beta.is_finite() || beta == Rgb::ZERO {

@@ -1,7 +1,9 @@
 //! Light subpaths: traced from the lights, their vertices kept for the camera subpaths, and
 //! each vertex connected to the camera (light tracing).
 
-use super::{LightVertex, PassContext, PathMis, VcmMode, continuation, mis, shading_ratio};
+use super::{
+    LightVertex, PassContext, PathMis, VcmMode, continuation, continue_subpath, mis, shading_ratio,
+};
 use crate::integrator::RayStats;
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
@@ -144,22 +146,20 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
         if depth == ctx.max_depth {
             return;
         }
-        let u_lobe = rng.next_f32();
-        let Some(s) = material.sample(wo_local, u_lobe, rng.next_2d(), TransportMode::Importance)
-        else {
+        let mode = TransportMode::Importance;
+        let Some((s, wi)) = continue_subpath(
+            ctx,
+            &material,
+            &frame,
+            hit.ng,
+            wo_local,
+            q,
+            mode,
+            rng,
+            &mut path_mis,
+        ) else {
             return;
         };
-        if rng.next_f32() >= q {
-            return;
-        }
-        let wi = frame.to_world(s.wi);
-        let cos_out = wi.dot(hit.ng).abs();
-        if s.is_specular() {
-            path_mis.scatter_specular(cos_out);
-        } else {
-            let reverse = material.pdf(s.wi, wo_local) * q;
-            path_mis.scatter(ctx, cos_out, s.pdf * q, reverse);
-        }
         // The adjoint BSDF under shading normals (Veach 1997, §5.3):
         // f*(wo → wi) = f(wi → wo) |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|).
         let departure = shading_ratio(wi, frame.n, hit.ng);

@@ -168,6 +168,38 @@ impl PathMis {
     }
 }
 
+/// A subpath's next direction from a vertex of `material` (shading `frame`, geometric normal
+/// `ng`): a lobe sampled in `mode`, then Russian roulette with the vertex's continuation
+/// probability `q`, and the subpath's MIS quantities carried over the scattering. `None`
+/// where the subpath ends. Returns the sample and its world direction.
+#[expect(clippy::too_many_arguments, reason = "the vertex's parts, named")]
+fn continue_subpath(
+    ctx: &PassContext,
+    material: &Material,
+    frame: &crate::math::Frame,
+    ng: Vec3,
+    wo_local: Vec3,
+    q: f32,
+    mode: crate::material::TransportMode,
+    rng: &mut crate::sampling::Rng,
+    path_mis: &mut PathMis,
+) -> Option<(crate::material::BsdfSample, Vec3)> {
+    let u_lobe = rng.next_f32();
+    let s = material.sample(wo_local, u_lobe, rng.next_2d(), mode)?;
+    if rng.next_f32() >= q {
+        return None;
+    }
+    let wi = frame.to_world(s.wi);
+    let cos_out = wi.dot(ng).abs();
+    if s.is_specular() {
+        path_mis.scatter_specular(cos_out);
+    } else {
+        let reverse = material.pdf(s.wi, wo_local) * q;
+        path_mis.scatter(ctx, cos_out, s.pdf * q, reverse);
+    }
+    Some((s, wi))
+}
+
 /// The probability that a subpath goes on from a vertex of material `m`: its albedo at
 /// normal incidence (at most 1), a property of the material alone, so that the reverse
 /// density of a vertex equals the forward one of the subpath from the other side. Glass
