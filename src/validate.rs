@@ -58,11 +58,6 @@ impl Method {
             .chain(Method::VCM_FAMILY)
             .find(|m| m.name() == name)
     }
-
-    /// Whether the method renders `scene`: the vcm family does not render media yet.
-    pub fn renders(self, scene: &Scene) -> bool {
-        !(Method::VCM_FAMILY.contains(&self) && scene.has_media())
-    }
 }
 
 /// How much work each integrator gets.

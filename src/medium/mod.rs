@@ -154,6 +154,15 @@ impl MediumAt<'_> {
         }
     }
 
+    /// σt at the point `p` (which is in the medium).
+    pub fn sigma_t_at(&self, p: Vec3) -> Rgb {
+        let sigma_t = self.coefficients.sigma_t();
+        match self.medium {
+            Medium::Homogeneous(_) => sigma_t,
+            Medium::Grid(m) => sigma_t * m.density(p),
+        }
+    }
+
     /// Sample the next event along `ray` up to `t_max` with the path's `hero` channel. A
     /// homogeneous medium draws one number.
     pub fn sample_free_flight(

@@ -2,29 +2,34 @@
 //! the pixel's light subpath and merging with every light subpath's vertices nearby; and the
 //! emission each subpath finds.
 
+use super::site::{self, Scatterer, Site};
 use super::{
     LightVertex, PassContext, PathMis, VcmMode, VertexGrid, continuation, continue_subpath,
-    hero_tripled_once, mis,
+    hero_tripled_once, mis, spectral_weight,
 };
 use crate::integrator::RayStats;
 use crate::light::Light;
-use crate::material::{Material, TransportMode};
-use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
+use crate::material::TransportMode;
+use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::medium::spectral_mis;
 use crate::photon::grid::QueryScratch;
 use crate::sampling::Rng;
-use crate::scene::{Hit, NO_LIGHT};
+use crate::scene::{Interaction, NO_LIGHT};
+use crate::spectrum::Lambda;
 
 /// A camera subpath's vertex with a density, with what its connections and merges need.
-struct CameraVertex<'a> {
-    hit: &'a Hit,
-    material: Material,
-    frame: Frame,
-    wo_local: Vec3,
+struct CameraVertex {
+    site: Site,
+    /// Toward the previous vertex.
+    wo: Vec3,
+    scatterer: Scatterer,
     continuation: f32,
     mis: PathMis,
     /// Segments from the camera.
     depth: u32,
     hero_only: bool,
+    /// Each channel's density of the subpath's distances in media over the hero's.
+    ratio: Rgb,
 }
 
 /// The light a camera subpath along `ray` brings back, at the pass's wavelengths, using
@@ -46,10 +51,11 @@ pub fn camera_sample(
     let mut path_mis = PathMis {
         vcm: mis(ctx.light_paths as f32 / camera_pdf),
         vc: 0.0,
-        vm: 0.0,
     };
     let mut beta = Rgb::ONE;
     let mut l = Rgb::ZERO;
+    let mut medium = scene.atmosphere();
+    let mut ratio = Rgb::ONE;
     // Whether every scattering so far was by a delta lobe (the emission such a subpath finds
     // is all that light tracing cannot).
     let mut specular_only = true;
@@ -58,103 +64,117 @@ pub fn camera_sample(
         if depth > 1 {
             stats.bounce += 1;
         }
-        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-            if let Some((i, _)) = scene.environment() {
-                let le = scene.escaped(ray.dir, &lambda);
-                let w = emission_weight(
-                    ctx,
-                    i,
-                    ray.origin,
-                    Vec3::ZERO,
-                    ray.dir,
-                    depth,
-                    specular_only,
-                    &path_mis,
-                );
-                l += beta * le * w;
-            }
-            break;
-        };
+        let step = scene.next_interaction(&ray, medium, (ctx.hero, &lambda), rng);
+        stats.bounce += u64::from(step.crossings);
+        beta *= step.weight;
+        ratio *= step.ratio;
+        let spectral = spectral_mis(ratio);
         let wo = -ray.dir;
-        path_mis.arrive(hit.t * hit.t, wo.dot(hit.ng).abs(), true);
-        if hit.light != NO_LIGHT {
-            let le = scene.emitted(&hit, wo, &lambda);
-            if le != Rgb::ZERO {
-                let w = emission_weight(
-                    ctx,
-                    hit.light as usize,
-                    hit.p,
-                    hit.ng,
-                    ray.dir,
-                    depth,
-                    specular_only,
-                    &path_mis,
-                );
-                l += beta * le * w;
+        let (site, scatterer) = match step.interaction {
+            Interaction::Escaped => {
+                if let Some((i, _)) = scene.environment() {
+                    let le = scene.escaped(ray.dir, &lambda);
+                    let found = Found {
+                        index: i,
+                        p: ray.origin,
+                        n: Vec3::ZERO,
+                        dir: ray.dir,
+                    };
+                    let w = emission_weight(ctx, &found, depth, specular_only, &path_mis);
+                    l += beta * le * (w * spectral);
+                }
+                break;
             }
-        }
+            Interaction::Scatter { p, medium } => {
+                let dist2 = (p - ray.origin).length_squared();
+                let s = site::medium_scatterer(scene, medium, p, wo, &lambda);
+                path_mis.arrive(dist2, s.measure(wo), true);
+                (Site::Medium { p, medium }, s)
+            }
+            Interaction::Surface { hit, medium } => {
+                let dist2 = (hit.p - ray.origin).length_squared();
+                path_mis.arrive(dist2, wo.dot(hit.ng).abs(), true);
+                if hit.light != NO_LIGHT {
+                    let le = scene.emitted(&hit, wo, &lambda);
+                    if le != Rgb::ZERO {
+                        let found = Found {
+                            index: hit.light as usize,
+                            p: hit.p,
+                            n: hit.ng,
+                            dir: ray.dir,
+                        };
+                        let w = emission_weight(ctx, &found, depth, specular_only, &path_mis);
+                        l += beta * le * (w * spectral);
+                    }
+                }
+                if depth > ctx.max_depth {
+                    break;
+                }
+                let (material, frame) = scene.surface(&hit, wo, &mut lambda);
+                let s = Scatterer::Surface {
+                    material,
+                    frame,
+                    ng: hit.ng,
+                    wo_local: frame.to_local(wo),
+                };
+                (Site::Surface { hit, medium }, s)
+            }
+        };
         if depth > ctx.max_depth {
             break;
         }
-        let (material, frame) = scene.surface(&hit, wo, &mut lambda);
-        let wo_local = frame.to_local(wo);
-        let q = continuation(&material);
-        if material.lobes().has_density() && ctx.mode != VcmMode::LightTrace {
+        let q = continuation(&scatterer);
+        if scatterer.has_density() && ctx.mode != VcmMode::LightTrace {
             let v = CameraVertex {
-                hit: &hit,
-                material,
-                frame,
-                wo_local,
+                site,
+                wo,
+                scatterer,
                 continuation: q,
                 mis: path_mis,
                 depth,
                 hero_only: lambda.is_hero_only(),
+                ratio,
             };
-            l += beta * next_event(ctx, &v, &lambda, rng, stats);
+            let mut found = next_event(ctx, &v, &lambda, rng, stats);
             for y in light_path {
                 if y.depth + depth > ctx.max_depth {
                     break;
                 }
-                l += beta * connect(ctx, &v, y, stats);
+                found += connect(ctx, &v, y, rng, stats);
             }
             if let Some(grid) = merge {
-                l += beta * merged(ctx, &v, grid, scratch) * ctx.vm_normalization;
+                found += merged(ctx, &v, grid, scratch);
             }
+            l += beta * found;
         }
         let mode = TransportMode::Radiance;
-        let Some((s, wi)) = continue_subpath(
-            ctx,
-            &material,
-            &frame,
-            hit.ng,
-            wo_local,
-            q,
-            mode,
-            rng,
-            &mut path_mis,
-        ) else {
+        let Some(s) = continue_subpath(ctx, &scatterer, q, mode, rng, &mut path_mis) else {
             break;
         };
-        specular_only &= s.is_specular();
+        specular_only &= s.specular;
         beta *= s.weight / q;
         if !beta.is_finite() || beta == Rgb::ZERO {
             break;
         }
-        ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+        (ray, medium) = site::ray_from(scene, &site, s.wi);
     }
     l
 }
 
-/// The weight of emission a camera subpath of `depth` segments found on light `index`
-/// (at `p`, normal `n`; the sky: any point of the ray) arriving along `dir`, against
-/// next-event estimation and the light subpaths that could have made the same path.
-#[expect(clippy::too_many_arguments, reason = "the hit's parts, named")]
-fn emission_weight(
-    ctx: &PassContext,
+/// Emission a camera subpath found: on light `index` at `p` (normal `n`; the sky: any point
+/// of the ray), arriving along `dir`.
+struct Found {
     index: usize,
     p: Vec3,
     n: Vec3,
     dir: Vec3,
+}
+
+/// The weight of emission a camera subpath of `depth` segments found, against next-event
+/// estimation and the light subpaths that could have made the same path.
+fn emission_weight(
+    ctx: &PassContext,
+    found: &Found,
     depth: u32,
     specular_only: bool,
     path_mis: &PathMis,
@@ -166,10 +186,10 @@ fn emission_weight(
     if ctx.mode == VcmMode::LightTrace {
         return if specular_only { 1.0 } else { 0.0 };
     }
-    let light = &ctx.scene.lights()[index];
-    let pick = ctx.scene.light_choice_pmf(index);
-    let pdf_direct = light.pdf_direct_area(-dir) * pick;
-    let pdf_emit = light.pdf_emit(p, n, -dir) * pick;
+    let light = &ctx.scene.lights()[found.index];
+    let pick = ctx.scene.light_choice_pmf(found.index);
+    let pdf_direct = light.pdf_direct_area(-found.dir) * pick;
+    let pdf_emit = light.pdf_emit(found.p, found.n, -found.dir) * pick;
     let w_camera = mis(pdf_direct) * path_mis.vcm + mis(pdf_emit) * path_mis.vc;
     1.0 / (1.0 + w_camera)
 }
@@ -178,7 +198,7 @@ fn emission_weight(
 fn next_event(
     ctx: &PassContext,
     v: &CameraVertex,
-    lambda: &crate::spectrum::Lambda,
+    lambda: &Lambda,
     rng: &mut Rng,
     stats: &mut RayStats,
 ) -> Rgb {
@@ -188,13 +208,11 @@ fn next_event(
     };
     let light = &scene.lights()[index];
     let u_pick = rng.next_f32();
-    let Some(ls) = light.sample_li(v.hit.p, u_pick, rng.next_2d(), lambda) else {
+    let p = v.site.p();
+    let Some(ls) = light.sample_li(p, u_pick, rng.next_2d(), lambda) else {
         return Rgb::ZERO;
     };
-    let wi_local = v.frame.to_local(ls.wi);
-    let f = v
-        .material
-        .eval(v.wo_local, wi_local, TransportMode::Radiance);
+    let (f, pdf_bsdf, reverse) = v.scatterer.eval(ls.wi, TransportMode::Radiance);
     if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
         return Rgb::ZERO;
     }
@@ -202,7 +220,7 @@ fn next_event(
     // (density 1 of its position) has dist² (ls.pdf is 1, with 1/dist² in its radiance).
     let pdf_direct = pick
         * if light.is_delta() && !light.is_at_infinity() {
-            (ls.point - v.hit.p).length_squared()
+            (ls.point - p).length_squared()
         } else {
             ls.pdf
         };
@@ -215,94 +233,98 @@ fn next_event(
     let pdf_bsdf = if light.is_delta() {
         0.0
     } else {
-        v.material.pdf(v.wo_local, wi_local) * v.continuation
+        pdf_bsdf * v.continuation
     };
-    let reverse = v.material.pdf(wi_local, v.wo_local) * v.continuation;
-    let cos_here = ls.wi.dot(v.hit.ng).abs();
+    let reverse = reverse * v.continuation;
+    let m = ctx.merge_factors(&v.scatterer);
     let w_light = mis(pdf_bsdf / pdf_direct);
-    let w_camera = mis(pdf_emit * cos_here / (pdf_direct * cos_light))
-        * (ctx.mis_vm + v.mis.vcm + v.mis.vc * mis(reverse));
+    let w_camera = mis(pdf_emit * v.scatterer.measure(ls.wi) / (pdf_direct * cos_light))
+        * (m.mis_vm + v.mis.vcm + v.mis.vc * mis(reverse));
     let weight = 1.0 / (w_light + 1.0 + w_camera);
     stats.shadow += 1;
-    if !light_visible(ctx, v.hit, light, &ls) {
+    let tr = light_transmittance(ctx, v, light, &ls, rng);
+    if tr == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    f * ls.radiance * (weight * wi_local.z.abs() / (ls.pdf * pick))
+    let cosine = v.scatterer.shading_cosine(ls.wi);
+    f * tr * ls.radiance * (weight * cosine * spectral_mis(v.ratio) / (ls.pdf * pick))
 }
 
-/// Whether the segment from the camera vertex to the light sample is free (both ends moved
+/// The fraction of the light sample's light that reaches the camera vertex (both ends moved
 /// off their surfaces, as the path tracer's shadow rays are).
-fn light_visible(
+fn light_transmittance(
     ctx: &PassContext,
-    hit: &Hit,
+    v: &CameraVertex,
     light: &Light,
     ls: &crate::light::LightSample,
-) -> bool {
-    let origin = offset_origin(hit.p, hit.ng, ls.wi);
+    rng: &mut Rng,
+) -> Rgb {
+    let (origin, medium) = v.site.leave(ctx.scene, ls.wi);
     let end = if ls.is_delta || light.is_at_infinity() {
         ls.point
     } else {
         offset_origin(ls.point, ls.normal, origin - ls.point)
     };
-    let d = end - origin;
-    let dist = d.length();
-    dist > 0.0 && !ctx.scene.occluded(origin, d / dist, dist)
+    site::transmittance_to(ctx.scene, origin, medium, end, &ctx.lambda, rng)
 }
 
 /// A connection of a camera vertex to a light vertex, weighed against every other
 /// technique for the same path.
-fn connect(ctx: &PassContext, x: &CameraVertex, y: &LightVertex, stats: &mut RayStats) -> Rgb {
-    let d = y.hit.p - x.hit.p;
+fn connect(
+    ctx: &PassContext,
+    x: &CameraVertex,
+    y: &LightVertex,
+    rng: &mut Rng,
+    stats: &mut RayStats,
+) -> Rgb {
+    let d = y.site.p() - x.site.p();
     let dist2 = d.length_squared();
     if dist2 == 0.0 {
         return Rgb::ZERO;
     }
-    let dist = dist2.sqrt();
-    let w = d / dist;
-    let wi_x = x.frame.to_local(w);
-    let f_x = x.material.eval(x.wo_local, wi_x, TransportMode::Radiance);
+    let w = d / dist2.sqrt();
+    let (f_x, pdf_x, reverse_x) = x.scatterer.eval(w, TransportMode::Radiance);
     if f_x == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let mut lambda_y = y.lambda_in;
-    let (material_y, frame_y) = ctx.scene.surface(&y.hit, y.wo, &mut lambda_y);
-    let wo_y = frame_y.to_local(y.wo);
-    let wi_y = frame_y.to_local(-w);
-    let f_y = material_y.eval(wo_y, wi_y, TransportMode::Importance);
+    let scatterer_y = y.scatterer(ctx);
+    let (f_y, pdf_y, reverse_y) = scatterer_y.eval(-w, TransportMode::Importance);
     if f_y == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let cos_x = w.dot(x.hit.ng).abs();
-    let cos_y = w.dot(y.hit.ng).abs();
-    // Each side's density of the other's position, per unit area.
-    let camera_pdf_area = x.material.pdf(x.wo_local, wi_x) * x.continuation * cos_y / dist2;
-    let light_pdf_area = material_y.pdf(wo_y, wi_y) * y.continuation * cos_x / dist2;
-    let reverse_x = x.material.pdf(wi_x, x.wo_local) * x.continuation;
-    let reverse_y = material_y.pdf(wi_y, wo_y) * y.continuation;
-    let w_light = mis(camera_pdf_area) * (ctx.mis_vm + y.mis.vcm + y.mis.vc * mis(reverse_y));
-    let w_camera = mis(light_pdf_area) * (ctx.mis_vm + x.mis.vcm + x.mis.vc * mis(reverse_x));
+    let measure_x = x.scatterer.measure(w);
+    let measure_y = scatterer_y.measure(w);
+    // Each side's density of the other's position, per unit area (volume).
+    let camera_pdf = pdf_x * x.continuation * measure_y / dist2;
+    let light_pdf = pdf_y * y.continuation * measure_x / dist2;
+    let (m_x, m_y) = (ctx.merge_factors(&x.scatterer), ctx.merge_factors(&scatterer_y));
+    let w_light = mis(camera_pdf)
+        * (m_y.mis_vm + y.mis.vcm + y.mis.vc * mis(reverse_y * y.continuation));
+    let w_camera = mis(light_pdf)
+        * (m_x.mis_vm + x.mis.vcm + x.mis.vc * mis(reverse_x * x.continuation));
     let weight = 1.0 / (w_light + 1.0 + w_camera);
+    // The geometric term: the camera side's shading cosine (the light side's is in its
+    // throughput), the light side's geometric one; none in a medium.
+    let cos_y = match scatterer_y {
+        Scatterer::Surface { .. } => measure_y,
+        Scatterer::Medium { .. } => 1.0,
+    };
     let value = f_x
         * f_y
         * y.beta
-        * (weight * wi_x.z.abs() * cos_y / dist2 * hero_tripled_once(x.hero_only, y.hero_only));
+        * (weight * x.scatterer.shading_cosine(w) * cos_y / dist2
+            * hero_tripled_once(x.hero_only, y.hero_only)
+            * spectral_weight(x.ratio, y.ratio));
     if value == Rgb::ZERO || !value.is_finite() {
         return Rgb::ZERO;
     }
     stats.shadow += 1;
-    let from = offset_origin(x.hit.p, x.hit.ng, w);
-    let to = offset_origin(y.hit.p, y.hit.ng, -w);
-    let span = to - from;
-    let length = span.length();
-    if length > 0.0 && ctx.scene.occluded(from, span / length, length) {
-        return Rgb::ZERO;
-    }
-    value
+    value * site::transmittance(ctx.scene, &x.site, &y.site, &ctx.lambda, rng)
 }
 
 /// The merges at a camera vertex: Σ f · β over the light vertices within the radius on the
-/// same side of the same kind of surface, each weighed against the other techniques
-/// (before the density estimate's 1 / (π r² N)).
+/// same side of the same kind of surface (or in a medium, for a vertex in a medium), each
+/// weighed against the other techniques, over the density estimate's η_VCM.
 fn merged(
     ctx: &PassContext,
     x: &CameraVertex,
@@ -310,22 +332,36 @@ fn merged(
     scratch: &mut QueryScratch,
 ) -> Rgb {
     let mut sum = Rgb::ZERO;
-    let ng = x.hit.ng_facing(x.frame.to_world(x.wo_local));
-    grid.for_each_near(x.hit.p, scratch, |y| {
-        if y.depth + x.depth > ctx.max_depth + 1 || y.ng.dot(ng) <= 0.0 {
+    let (ng, medium) = match &x.site {
+        Site::Surface { hit, .. } => (hit.ng_facing(x.wo), None),
+        Site::Medium { medium, .. } => (Vec3::ZERO, Some(*medium)),
+    };
+    let m = ctx.merge_factors(&x.scatterer);
+    grid.for_each_near(x.site.p(), scratch, |y| {
+        if y.depth + x.depth > ctx.max_depth + 1 {
             return;
         }
-        let wi = x.frame.to_local(y.wo);
-        let f = x.material.eval(x.wo_local, wi, TransportMode::Radiance);
+        let same_kind = match medium {
+            Some(id) => y.in_medium(id),
+            None => y.ng.dot(ng) > 0.0,
+        };
+        if !same_kind {
+            return;
+        }
+        let (f, camera_pdf, reverse) = x.scatterer.eval(y.wo, TransportMode::Radiance);
         if f == Rgb::ZERO {
             return;
         }
-        let camera_pdf = x.material.pdf(x.wo_local, wi) * x.continuation;
-        let reverse = x.material.pdf(wi, x.wo_local) * y.continuation;
-        let w_light = y.vcm * ctx.mis_vc + y.vm * mis(camera_pdf);
-        let w_camera = x.mis.vcm * ctx.mis_vc + x.mis.vm * mis(reverse);
+        let camera_pdf = camera_pdf * x.continuation;
+        let reverse = reverse * y.continuation;
+        let w_light = m.mis_vc * (y.vcm + y.vc * mis(camera_pdf));
+        let w_camera = m.mis_vc * (x.mis.vcm + x.mis.vc * mis(reverse));
         let weight = 1.0 / (w_light + 1.0 + w_camera);
-        sum += f * y.beta * (weight * hero_tripled_once(x.hero_only, y.hero_only));
+        sum += f
+            * y.beta
+            * (weight
+                * hero_tripled_once(x.hero_only, y.hero_only)
+                * spectral_weight(x.ratio, y.ratio));
     });
-    sum
+    sum * m.normalization
 }

@@ -1,6 +1,7 @@
 //! Light subpaths: traced from the lights, their vertices kept for the camera subpaths, and
 //! each vertex connected to the camera (light tracing).
 
+use super::site::{self, Scatterer, Site};
 use super::{
     LightVertex, PassContext, PathMis, VcmMode, continuation, continue_subpath, mis, shading_ratio,
 };
@@ -8,6 +9,7 @@ use crate::integrator::RayStats;
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
 use crate::sampling::Rng;
+use crate::scene::Interaction;
 use rayon::prelude::*;
 use std::ops::Range;
 
@@ -107,7 +109,6 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
     let mut path_mis = PathMis {
         vcm: mis(pdf_direct / pdf_emit),
         vc,
-        vm: vc * ctx.mis_vc,
     };
     let origin = if e.normal == Vec3::ZERO {
         e.origin
@@ -115,30 +116,56 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
         offset_origin(e.origin, e.normal, e.dir)
     };
     let mut ray = Ray::new(origin, e.dir);
+    let mut medium = scene.atmosphere();
+    let mut ratio = Rgb::ONE;
     for depth in 1..=ctx.max_depth {
         out.rays.bounce += 1;
-        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-            return;
-        };
+        let step = scene.next_interaction(&ray, medium, (ctx.hero, &lambda), rng);
+        out.rays.bounce += u64::from(step.crossings);
+        beta *= step.weight;
+        ratio *= step.ratio;
         let wo = -ray.dir;
         let lambda_in = lambda;
-        let (material, frame) = scene.surface(&hit, wo, &mut lambda);
-        let cos_in = wo.dot(hit.ng).abs();
-        path_mis.arrive(hit.t * hit.t, cos_in, depth > 1 || !light.is_at_infinity());
-        let wo_local = frame.to_local(wo);
-        let q = continuation(&material);
-        if material.lobes().has_density() {
+        let (site, scatterer) = match step.interaction {
+            Interaction::Escaped => return,
+            Interaction::Scatter { p, medium } => (
+                Site::Medium { p, medium },
+                site::medium_scatterer(scene, medium, p, wo, &lambda),
+            ),
+            Interaction::Surface { hit, medium } => {
+                let (material, frame) = scene.surface(&hit, wo, &mut lambda);
+                let scatterer = Scatterer::Surface {
+                    material,
+                    frame,
+                    ng: hit.ng,
+                    wo_local: frame.to_local(wo),
+                };
+                (Site::Surface { hit, medium }, scatterer)
+            }
+        };
+        let dist2 = (site.p() - ray.origin).length_squared();
+        let measure_in = scatterer.measure(wo);
+        path_mis.arrive(dist2, measure_in, depth > 1 || !light.is_at_infinity());
+        let q = continuation(&scatterer);
+        // Flux lands on the geometric surface; what a BSDF at the vertex multiplies is the
+        // shading irradiance (in a medium there is no surface).
+        let arrival = match &scatterer {
+            Scatterer::Surface { frame, ng, .. } => shading_ratio(wo, frame.n, *ng),
+            Scatterer::Medium { .. } => 1.0,
+        };
+        if scatterer.has_density() {
             let vertex = LightVertex {
-                hit,
+                site,
                 wo,
-                beta: beta * shading_ratio(wo, frame.n, hit.ng),
+                beta: beta * arrival,
                 mis: path_mis,
                 continuation: q,
                 depth,
                 lambda_in,
                 hero_only: lambda.is_hero_only(),
+                ratio,
             };
-            connect_to_camera(ctx, &vertex, &material, &frame, out);
+            connect_to_camera(ctx, &vertex, &scatterer, rng, out);
             if ctx.mode != VcmMode::LightTrace {
                 out.vertices.push(vertex);
             }
@@ -147,30 +174,23 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
             return;
         }
         let mode = TransportMode::Importance;
-        let Some((s, wi)) = continue_subpath(
-            ctx,
-            &material,
-            &frame,
-            hit.ng,
-            wo_local,
-            q,
-            mode,
-            rng,
-            &mut path_mis,
-        ) else {
+        let Some(s) = continue_subpath(ctx, &scatterer, q, mode, rng, &mut path_mis) else {
             return;
         };
         // The adjoint BSDF under shading normals (Veach 1997, §5.3):
         // f*(wo → wi) = f(wi → wo) |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|).
-        let departure = shading_ratio(wi, frame.n, hit.ng);
+        let departure = match &scatterer {
+            Scatterer::Surface { frame, ng, .. } => shading_ratio(s.wi, frame.n, *ng),
+            Scatterer::Medium { .. } => 1.0,
+        };
         if departure == 0.0 {
             return;
         }
-        beta *= s.weight * (shading_ratio(wo, frame.n, hit.ng) / (departure * q));
+        beta *= s.weight * (arrival / (departure * q));
         if !beta.is_finite() || beta == Rgb::ZERO {
             return;
         }
-        ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+        (ray, medium) = site::ray_from(scene, &site, s.wi);
     }
 }
 
@@ -179,49 +199,54 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
 fn connect_to_camera(
     ctx: &PassContext,
     v: &LightVertex,
-    material: &crate::material::Material,
-    frame: &crate::math::Frame,
+    scatterer: &Scatterer,
+    rng: &mut Rng,
     out: &mut LightSubpaths,
 ) {
     let camera = ctx.camera;
-    let Some(film) = camera.raster(v.hit.p) else {
+    let p = v.site.p();
+    let Some(film) = camera.raster(p) else {
         return;
     };
-    let to_camera = camera.position - v.hit.p;
+    let to_camera = camera.position - p;
     let dist2 = to_camera.length_squared();
     let dist = dist2.sqrt();
     let w = to_camera / dist;
-    let wo_local = frame.to_local(v.wo);
-    let wi_local = frame.to_local(w);
-    let f = material.eval(wo_local, wi_local, TransportMode::Importance);
+    let (f, _, reverse) = scatterer.eval(w, TransportMode::Importance);
     if f == Rgb::ZERO {
         return;
     }
-    let cos_here = w.dot(v.hit.ng).abs();
-    // The camera's density of the vertex's position, per unit area of the surface.
-    let camera_pdf_area = camera.pixel_solid_angle_density(-w) * cos_here / dist2;
-    if camera_pdf_area.is_nan() || camera_pdf_area <= 0.0 {
+    // The camera's density of the vertex, per unit area of a surface (per unit volume in a
+    // medium, for the weights), and the geometric factor the contribution takes.
+    let camera_pdf = camera.pixel_solid_angle_density(-w) / dist2;
+    let camera_pdf_vertex = camera_pdf * scatterer.measure(w);
+    let geometric = match scatterer {
+        Scatterer::Surface { .. } => camera_pdf_vertex,
+        Scatterer::Medium { .. } => camera_pdf,
+    };
+    if camera_pdf_vertex.is_nan() || camera_pdf_vertex <= 0.0 {
         return;
     }
     let weight = if ctx.mode == VcmMode::LightTrace {
         1.0
     } else {
-        let reverse = material.pdf(wi_local, wo_local) * v.continuation;
-        let w_light = mis(camera_pdf_area / ctx.light_paths as f32)
-            * (ctx.mis_vm + v.mis.vcm + v.mis.vc * mis(reverse));
+        let m = ctx.merge_factors(scatterer);
+        let w_light = mis(camera_pdf_vertex / ctx.light_paths as f32)
+            * (m.mis_vm + v.mis.vcm + v.mis.vc * mis(reverse * v.continuation));
         1.0 / (w_light + 1.0)
     };
-    let value = v.beta * f * (weight * camera_pdf_area / ctx.light_paths as f32);
+    let value = v.beta
+        * f
+        * (weight * geometric * crate::medium::spectral_mis(v.ratio) / ctx.light_paths as f32);
     if !value.is_finite() || value == Rgb::ZERO {
         return;
     }
     out.rays.shadow += 1;
-    let origin = offset_origin(v.hit.p, v.hit.ng, w);
-    let to = camera.position - origin;
-    let d = to.length();
-    if ctx.scene.occluded(origin, to / d, d) {
+    let (origin, medium) = v.site.leave(ctx.scene, w);
+    let tr = site::transmittance_to(ctx.scene, origin, medium, camera.position, &ctx.lambda, rng);
+    if tr == Rgb::ZERO {
         return;
     }
     let pixel = film.y as u32 * camera.width + film.x as u32;
-    out.splats.push((pixel, value));
+    out.splats.push((pixel, value * tr));
 }

@@ -17,6 +17,14 @@
 //! along each subpath ([`PathMis`]: Georgiev's dVCM, dVC and dVM, from the technical report
 //! "Implementing Vertex Connection and Merging", 2012).
 //!
+//! Participating media add vertices at scattering points, with the phase function for a
+//! BSDF and volume for area (see [`site`]): they are connected like surface vertices and
+//! merged with the light vertices within the radius in 3D, normalised by the ball's volume
+//! (volumetric photon mapping's point estimate, Jensen and Christensen 1998). Distances in
+//! media are drawn with one hero channel per pass for both subpaths, and every contribution
+//! takes the spectral MIS factor of the whole path's channel densities (see
+//! [`crate::medium`]).
+//!
 //! Conventions:
 //! - A subpath's *depth* is its number of segments; its vertex at depth k is its k-th
 //!   scattering vertex. A full path has at most `max_depth` scattering vertices.
@@ -30,16 +38,20 @@
 
 mod camera_path;
 mod light_path;
+mod site;
 
 pub use camera_path::camera_sample;
 pub use light_path::{LightSubpaths, trace_light_subpaths};
 
 use crate::camera::Camera;
-use crate::material::Material;
+use crate::material::{Material, TransportMode};
 use crate::math::{Rgb, Vec3};
+use crate::medium::MediumId;
 use crate::photon::grid::{Located, PhotonGrid, QueryScratch};
-use crate::scene::{Hit, Scene};
+use crate::sampling::Rng;
+use crate::scene::Scene;
 use crate::spectrum::Lambda;
+use site::{Scattered, Scatterer, Site};
 use std::f32::consts::PI;
 
 /// Which techniques a pass uses.
@@ -77,13 +89,38 @@ pub struct PassContext<'a> {
     pub light_paths: u32,
     /// Merging radius.
     pub radius: f32,
-    /// Weight factor of merging against connection: η_VCM = π r² · light paths, raised to
-    /// the heuristic's power (0 when not merging).
+    /// The channel both subpaths draw distances in media with (see [`crate::medium`]).
+    pub hero: usize,
+    /// Merging against connecting at a vertex on a surface.
+    surface: MergeFactors,
+    /// The same at a vertex in a medium.
+    volume: MergeFactors,
+}
+
+/// How merging at a vertex weighs against the other techniques: η_VCM, the kernel's measure
+/// times the light paths (π r² · N on a surface, 4/3 π r³ · N in a medium).
+#[derive(Clone, Copy, Debug)]
+struct MergeFactors {
+    /// η_VCM raised to the heuristic's power (0 when not merging).
     mis_vm: f32,
-    /// The inverse, for connections against merging (0 when not connecting).
+    /// The inverse, for connections against merging (0 when not merging or not connecting).
     mis_vc: f32,
     /// 1 / η_VCM: a merge's density-estimation normalisation.
-    vm_normalization: f32,
+    normalization: f32,
+}
+
+impl MergeFactors {
+    fn new(mode: VcmMode, eta: f32) -> Self {
+        Self {
+            mis_vm: if mode.merges() { mis(eta) } else { 0.0 },
+            mis_vc: if mode.merges() && mode.connects() {
+                mis(1.0 / eta)
+            } else {
+                0.0
+            },
+            normalization: 1.0 / eta,
+        }
+    }
 }
 
 impl<'a> PassContext<'a> {
@@ -94,9 +131,10 @@ impl<'a> PassContext<'a> {
         max_depth: u32,
         lambda: Lambda,
         radius: f32,
+        hero: usize,
     ) -> Self {
         let light_paths = camera.width * camera.height;
-        let eta = PI * radius * radius * light_paths as f32;
+        let n = light_paths as f32;
         Self {
             scene,
             camera,
@@ -105,13 +143,17 @@ impl<'a> PassContext<'a> {
             lambda,
             light_paths,
             radius,
-            mis_vm: if mode.merges() { mis(eta) } else { 0.0 },
-            mis_vc: if mode.merges() && mode.connects() {
-                mis(1.0 / eta)
-            } else {
-                0.0
-            },
-            vm_normalization: 1.0 / eta,
+            hero,
+            surface: MergeFactors::new(mode, PI * radius * radius * n),
+            volume: MergeFactors::new(mode, 4.0 / 3.0 * PI * radius * radius * radius * n),
+        }
+    }
+
+    /// The merge factors of a vertex with this scatterer.
+    fn merge_factors(&self, s: &Scatterer) -> &MergeFactors {
+        match s {
+            Scatterer::Surface { .. } => &self.surface,
+            Scatterer::Medium { .. } => &self.volume,
         }
     }
 }
@@ -125,37 +167,40 @@ fn mis(x: f32) -> f32 {
 /// Georgiev's recursive quantities of a subpath at its last vertex: from them and the local
 /// densities of a connection or merge, the sum over every other technique of its density
 /// (to the power β) relative to the one used.
+///
+/// Georgiev's third quantity, dVM (for merges), is dVC / η_VCM of the vertex merged at:
+/// both sum the same techniques further back, each merge there with its own vertex's η (a
+/// surface's or a medium's), relative to a connection. Keeping dVC alone lets η differ from
+/// vertex to vertex.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct PathMis {
     /// dVCM: the technique that would sample this vertex from the other side.
     vcm: f32,
-    /// dVC: the connections further back.
+    /// dVC: the connections and merges further back.
     vc: f32,
-    /// dVM: the merges further back.
-    vm: f32,
 }
 
 impl PathMis {
     /// Arrive at a vertex over a segment of length² `dist2` whose direction makes the
-    /// geometric cosine `cos` there; `count_distance`: false only for the first segment from a
+    /// factor `measure` there (the geometric cosine, or the extinction in a medium: see
+    /// [`Scatterer::measure`]); `count_distance`: false only for the first segment from a
     /// light at infinity, which starts on a disc, not at a point.
-    fn arrive(&mut self, dist2: f32, cos: f32, count_distance: bool) {
+    fn arrive(&mut self, dist2: f32, measure: f32, count_distance: bool) {
         if count_distance {
             self.vcm *= mis(dist2);
         }
-        let inv = 1.0 / mis(cos.max(1e-8));
+        let inv = 1.0 / mis(measure.max(1e-8));
         self.vcm *= inv;
         self.vc *= inv;
-        self.vm *= inv;
     }
 
-    /// Leave a vertex by a sampled direction: geometric cosine `cos_out` of the direction,
-    /// densities `pdf_forward` (of sampling it) and `pdf_reverse` (of sampling the arrival
-    /// direction from it), both with the continuation probability.
-    fn scatter(&mut self, ctx: &PassContext, cos_out: f32, pdf_forward: f32, pdf_reverse: f32) {
-        let g = mis(cos_out / pdf_forward);
-        self.vc = g * (self.vc * mis(pdf_reverse) + self.vcm + ctx.mis_vm);
-        self.vm = g * (self.vm * mis(pdf_reverse) + self.vcm * ctx.mis_vc + 1.0);
+    /// Leave a vertex (whose merges weigh `m`) by a sampled direction: the vertex's measure
+    /// factor `measure_out` for the direction, densities `pdf_forward` (of sampling it) and
+    /// `pdf_reverse` (of sampling the arrival direction from it), both with the continuation
+    /// probability.
+    fn scatter(&mut self, m: &MergeFactors, measure_out: f32, pdf_forward: f32, pdf_reverse: f32) {
+        let g = mis(measure_out / pdf_forward);
+        self.vc = g * (self.vc * mis(pdf_reverse) + self.vcm + m.mis_vm);
         self.vcm = mis(1.0 / pdf_forward);
     }
 
@@ -164,47 +209,58 @@ impl PathMis {
     fn scatter_specular(&mut self, cos_out: f32) {
         self.vcm = 0.0;
         self.vc *= mis(cos_out);
-        self.vm *= mis(cos_out);
     }
 }
 
-/// A subpath's next direction from a vertex of `material` (shading `frame`, geometric normal
-/// `ng`): a lobe sampled in `mode`, then Russian roulette with the vertex's continuation
+/// A subpath's next direction from a vertex with scatterer `s`: a lobe (or the phase
+/// function) sampled in `mode`, then Russian roulette with the vertex's continuation
 /// probability `q`, and the subpath's MIS quantities carried over the scattering. `None`
-/// where the subpath ends. Returns the sample and its world direction.
-#[expect(clippy::too_many_arguments, reason = "the vertex's parts, named")]
+/// where the subpath ends.
 fn continue_subpath(
     ctx: &PassContext,
-    material: &Material,
-    frame: &crate::math::Frame,
-    ng: Vec3,
-    wo_local: Vec3,
+    s: &Scatterer,
     q: f32,
-    mode: crate::material::TransportMode,
-    rng: &mut crate::sampling::Rng,
+    mode: TransportMode,
+    rng: &mut Rng,
     path_mis: &mut PathMis,
-) -> Option<(crate::material::BsdfSample, Vec3)> {
-    let u_lobe = rng.next_f32();
-    let s = material.sample(wo_local, u_lobe, rng.next_2d(), mode)?;
+) -> Option<Scattered> {
+    let sampled = s.sample(mode, rng)?;
     if rng.next_f32() >= q {
         return None;
     }
-    let wi = frame.to_world(s.wi);
-    let cos_out = wi.dot(ng).abs();
-    if s.is_specular() {
-        path_mis.scatter_specular(cos_out);
+    let measure_out = s.measure(sampled.wi);
+    if sampled.specular {
+        path_mis.scatter_specular(measure_out);
     } else {
-        let reverse = material.pdf(s.wi, wo_local) * q;
-        path_mis.scatter(ctx, cos_out, s.pdf * q, reverse);
+        let (_, _, reverse) = s.eval(sampled.wi, mode);
+        path_mis.scatter(
+            ctx.merge_factors(s),
+            measure_out,
+            sampled.pdf * q,
+            reverse * q,
+        );
     }
-    Some((s, wi))
+    Some(sampled)
 }
 
-/// The probability that a subpath goes on from a vertex of material `m`: its albedo at
-/// normal incidence (at most 1), a property of the material alone, so that the reverse
-/// density of a vertex equals the forward one of the subpath from the other side. Glass
-/// always continues (its reflection and refraction together keep almost all light).
-fn continuation(m: &Material) -> f32 {
+/// The probability that a subpath goes on from a vertex with scatterer `s`, a property of
+/// the vertex alone, so that the reverse density of a vertex equals the forward one of the
+/// subpath from the other side: on a surface, its material's albedo at normal incidence (at
+/// most 1; glass always continues, its reflection and refraction together keeping almost all
+/// light); in a medium, its largest channel's single-scattering albedo, at most
+/// [`MEDIUM_CONTINUATION`].
+fn continuation(s: &Scatterer) -> f32 {
+    match s {
+        Scatterer::Surface { material, .. } => surface_continuation(material),
+        Scatterer::Medium { albedo, .. } => albedo.min(MEDIUM_CONTINUATION),
+    }
+}
+
+/// The most a subpath continues with in a medium: without a bound, a subpath in a medium
+/// that does not absorb would wander to the depth limit.
+const MEDIUM_CONTINUATION: f32 = 0.95;
+
+fn surface_continuation(m: &Material) -> f32 {
     if m.encloses_volume() {
         return 1.0;
     }
@@ -219,10 +275,10 @@ fn shading_ratio(w: Vec3, ns: Vec3, ng: Vec3) -> f32 {
     if g > 0.0 { w.dot(ns).abs() / g } else { 0.0 }
 }
 
-/// A vertex of a light subpath on a surface with a density.
+/// A vertex of a light subpath on a surface with a density, or in a medium.
 #[derive(Clone, Copy, Debug)]
 pub struct LightVertex {
-    hit: Hit,
+    site: Site,
     /// Unit direction toward the previous vertex (where its light came from).
     wo: Vec3,
     /// The subpath's throughput here, times [`shading_ratio`] of `wo`: what a BSDF at this
@@ -237,6 +293,29 @@ pub struct LightVertex {
     lambda_in: Lambda,
     /// Whether the subpath goes on with its hero wavelength alone after this vertex.
     hero_only: bool,
+    /// Each channel's density of the subpath's distances in media over the hero's.
+    ratio: Rgb,
+}
+
+impl LightVertex {
+    /// What scatters light at the vertex, and its wavelengths after it.
+    fn scatterer(&self, ctx: &PassContext) -> Scatterer {
+        match &self.site {
+            Site::Surface { hit, .. } => {
+                let mut lambda = self.lambda_in;
+                let (material, frame) = ctx.scene.surface(hit, self.wo, &mut lambda);
+                Scatterer::Surface {
+                    material,
+                    frame,
+                    ng: hit.ng,
+                    wo_local: frame.to_local(self.wo),
+                }
+            }
+            Site::Medium { p, medium } => {
+                site::medium_scatterer(ctx.scene, *medium, *p, self.wo, &ctx.lambda)
+            }
+        }
+    }
 }
 
 /// What merging reads of a light vertex, kept in the grid's buckets so that a search reads
@@ -247,14 +326,29 @@ pub struct MergeVertex {
     position: Vec3,
     /// Toward the previous vertex.
     wo: Vec3,
-    /// The geometric normal on the side of `wo`.
+    /// The geometric normal on the side of `wo`; zero in a medium.
     ng: Vec3,
+    /// The medium the vertex is in; [`ON_SURFACE`] for a vertex on a surface.
+    medium: MediumId,
+    /// The subpath's throughput, without σs at the vertex in a medium (the camera subpath's
+    /// has it).
     beta: Rgb,
+    ratio: Rgb,
     vcm: f32,
-    vm: f32,
+    vc: f32,
     continuation: f32,
     depth: u32,
     hero_only: bool,
+}
+
+/// [`MergeVertex::medium`] of a vertex on a surface.
+const ON_SURFACE: MediumId = MediumId::MAX;
+
+impl MergeVertex {
+    /// Whether the vertex is in the medium `id`.
+    fn in_medium(&self, id: MediumId) -> bool {
+        self.medium == id
+    }
 }
 
 impl Located for MergeVertex {
@@ -272,16 +366,30 @@ pub struct VertexGrid {
 }
 
 impl VertexGrid {
-    pub fn new(vertices: &[LightVertex], radius: f32) -> Self {
+    pub fn new(ctx: &PassContext, vertices: &[LightVertex], radius: f32) -> Self {
         let entries = vertices
             .iter()
             .map(|v| MergeVertex {
-                position: v.hit.p,
+                position: v.site.p(),
                 wo: v.wo,
-                ng: v.hit.ng_facing(v.wo),
-                beta: v.beta,
+                ng: match &v.site {
+                    Site::Surface { hit, .. } => hit.ng_facing(v.wo),
+                    Site::Medium { .. } => Vec3::ZERO,
+                },
+                medium: match &v.site {
+                    Site::Surface { .. } => ON_SURFACE,
+                    Site::Medium { medium, .. } => *medium,
+                },
+                beta: match &v.site {
+                    Site::Surface { .. } => v.beta,
+                    Site::Medium { p, medium } => {
+                        let sigma_s = ctx.scene.medium(*medium).at(&ctx.lambda).sigma_s_at(*p);
+                        Rgb::select(sigma_s.cmpgt(Rgb::ZERO), v.beta / sigma_s, Rgb::ZERO)
+                    }
+                },
+                ratio: v.ratio,
                 vcm: v.mis.vcm,
-                vm: v.mis.vm,
+                vc: v.mis.vc,
                 continuation: v.continuation,
                 depth: v.depth,
                 hero_only: v.hero_only,
@@ -303,6 +411,13 @@ impl VertexGrid {
         self.grid
             .for_each_within(p, self.radius, scratch, &mut |v, _| visit(v));
     }
+}
+
+/// The spectral MIS factor of a path made of a camera subpath and a light subpath whose
+/// channel densities over the hero's are `camera` and `light` (1 without media).
+#[inline]
+fn spectral_weight(camera: Rgb, light: Rgb) -> f32 {
+    crate::medium::spectral_mis(camera * light)
 }
 
 /// The factor for the product of a camera and a light subpath's values: 1/3 where both went
