@@ -143,7 +143,11 @@ two_sided = true
         eprintln!("{}: mist furnace mean {mean}", method.name());
         for c in 0..3 {
             let got = mean.to_array()[c];
-            assert!((got - 1.0).abs() < 0.015, "{}, channel {c}: {got}", method.name());
+            assert!(
+                (got - 1.0).abs() < 0.015,
+                "{}, channel {c}: {got}",
+                method.name()
+            );
         }
     }
 }

@@ -297,11 +297,14 @@ fn connect(
     // Each side's density of the other's position, per unit area (volume).
     let camera_pdf = pdf_x * x.continuation * measure_y / dist2;
     let light_pdf = pdf_y * y.continuation * measure_x / dist2;
-    let (m_x, m_y) = (ctx.merge_factors(&x.scatterer), ctx.merge_factors(&scatterer_y));
-    let w_light = mis(camera_pdf)
-        * (m_y.mis_vm + y.mis.vcm + y.mis.vc * mis(reverse_y * y.continuation));
-    let w_camera = mis(light_pdf)
-        * (m_x.mis_vm + x.mis.vcm + x.mis.vc * mis(reverse_x * x.continuation));
+    let (m_x, m_y) = (
+        ctx.merge_factors(&x.scatterer),
+        ctx.merge_factors(&scatterer_y),
+    );
+    let w_light =
+        mis(camera_pdf) * (m_y.mis_vm + y.mis.vcm + y.mis.vc * mis(reverse_y * y.continuation));
+    let w_camera =
+        mis(light_pdf) * (m_x.mis_vm + x.mis.vcm + x.mis.vc * mis(reverse_x * x.continuation));
     let weight = 1.0 / (w_light + 1.0 + w_camera);
     // The geometric term: the camera side's shading cosine (the light side's is in its
     // throughput), the light side's geometric one; none in a medium.

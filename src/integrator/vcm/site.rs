@@ -14,10 +14,7 @@ use crate::spectrum::Lambda;
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Site {
     /// On a surface, reached through `medium` (the medium on the side the subpath came from).
-    Surface {
-        hit: Hit,
-        medium: Option<MediumId>,
-    },
+    Surface { hit: Hit, medium: Option<MediumId> },
     /// At a scattering point in a medium.
     Medium { p: Vec3, medium: MediumId },
 }
