@@ -109,6 +109,24 @@ emission = { radiance = 0.5, two_sided = true }
 /// unbounded variance, 1/d² with no cosine to tame it; `fog-box` tests it in a medium.)
 #[test]
 fn a_closed_sphere_of_scattering_media_reads_one() {
+    let scene = mist_furnace();
+    for (method, radius) in [(Method::Vcm, Some(0.1)), (Method::Bdpt, None)] {
+        let image = render(&scene, &config(method, 16, radius), 1024);
+        let mean = image.mean();
+        eprintln!("{}: mist furnace mean {mean}", method.name());
+        for c in 0..3 {
+            let got = mean.to_array()[c];
+            assert!(
+                (got - 1.0).abs() < 0.015,
+                "{}, channel {c}: {got}",
+                method.name()
+            );
+        }
+    }
+}
+
+/// The furnace of [`a_closed_sphere_of_scattering_media_reads_one`].
+fn mist_furnace() -> Scene {
     let text = r#"
 name = "mist-furnace"
 medium = "mist"
@@ -136,20 +154,7 @@ radiance = 1.0
 two_sided = true
 "#;
     let desc = read_str(text, Path::new("mist.toml"), Path::new(".")).expect("reads");
-    let scene = build(&desc).expect("builds");
-    for (method, radius) in [(Method::Vcm, Some(0.1)), (Method::Bdpt, None)] {
-        let image = render(&scene, &config(method, 16, radius), 1024);
-        let mean = image.mean();
-        eprintln!("{}: mist furnace mean {mean}", method.name());
-        for c in 0..3 {
-            let got = mean.to_array()[c];
-            assert!(
-                (got - 1.0).abs() < 0.015,
-                "{}, channel {c}: {got}",
-                method.name()
-            );
-        }
-    }
+    build(&desc).expect("builds")
 }
 
 /// The image does not depend on the thread count; a render resumed from a checkpoint and
@@ -165,6 +170,19 @@ fn threads_resume_and_merge_give_the_same_bits() {
         .expect("pool")
         .install(|| render(&scene, &c, 5));
     assert_eq!(bits(&one_thread), bits(&straight), "one thread");
+    // In media too, where subpaths draw distances and connections estimate transmittance.
+    let mist = mist_furnace();
+    let c_mist = config(Method::Vcm, 8, Some(0.1));
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool")
+        .install(|| render(&mist, &c_mist, 3));
+    assert_eq!(
+        bits(&one_thread),
+        bits(&render(&mist, &c_mist, 3)),
+        "one thread, in media"
+    );
 
     let dir = common::temp_dir("vcm-resume");
     let mut first = ProgressiveState::new(&scene, c.clone(), 0).expect("valid");
