@@ -5,7 +5,7 @@
 mod common;
 
 use common::media::{
-    assert_every_integrator_renders_alike_on_one_and_two_threads, image_mean, scene,
+    assert_every_integrator_renders_alike_on_one_and_two_threads, furnace_toml, image_mean, scene,
 };
 use common::{chi2, chi2_z};
 use photon::math::{Rgb, Vec3};
@@ -236,37 +236,7 @@ intensity = {intensity}
 /// sampling and by phase sampling, or by light sampling and photons) or lost at a boundary
 /// shows.
 fn furnace(camera_z: f32, cloud_z: f32, resolution: u32) -> photon::scene::Scene {
-    scene(&format!(
-        r#"
-medium = "mist"
-[camera]
-position = [0.0, 0.0, {camera_z}]
-look_at = [0.0, 0.0, -1.0]
-fov = 60.0
-resolution = [{resolution}, {resolution}]
-
-[media.mist]
-sigma_s = [1.0, 2.0, 4.0]
-g = 0.5
-
-[media.cloud]
-sigma_s = 5.0
-g = -0.3
-
-[[shapes]]
-type = "sphere"
-center = [0.0, 0.0, {cloud_z}]
-radius = 0.3
-interior = "cloud"
-
-[[lights]]
-type = "sphere"
-center = [0.0, 0.0, 0.0]
-radius = 1.0
-radiance = 1.0
-two_sided = true
-"#
-    ))
+    scene(&furnace_toml(camera_z, cloud_z, resolution))
 }
 
 #[test]

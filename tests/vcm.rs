@@ -100,8 +100,9 @@ emission = { radiance = 0.5, two_sided = true }
 
 /// A closed sphere whose wall emits radiance 1 and reflects nothing, filled with a mist that
 /// scatters but does not absorb (coloured: σs 1, 2, 4 per unit), with a ball of another,
-/// backward-scattering medium behind an invisible boundary: radiance 1 everywhere solves the
-/// transport equation, so every pixel reads 1 however light scatters. Bidirectional path
+/// backward-scattering medium behind an invisible boundary (`common::media::furnace_toml`):
+/// radiance 1 everywhere solves the transport equation, so every pixel reads 1 however light
+/// scatters. Bidirectional path
 /// tracing, and vcm with a radius large enough that merges in the volume carry much of the
 /// light: a merge normalised by the wrong measure, counting σs twice, or weighed against the
 /// other techniques with a surface's η shows in some channel. (Light tracing alone is left
@@ -125,36 +126,10 @@ fn a_closed_sphere_of_scattering_media_reads_one() {
     }
 }
 
-/// The furnace of [`a_closed_sphere_of_scattering_media_reads_one`].
+/// The furnace of [`a_closed_sphere_of_scattering_media_reads_one`], seen from its centre
+/// with the cloud behind the camera.
 fn mist_furnace() -> Scene {
-    let text = r#"
-name = "mist-furnace"
-medium = "mist"
-[camera]
-position = [0.0, 0.0, 0.0]
-look_at = [0.0, 0.0, -1.0]
-fov = 60.0
-resolution = [16, 16]
-[media.mist]
-sigma_s = [1.0, 2.0, 4.0]
-g = 0.5
-[media.cloud]
-sigma_s = 5.0
-g = -0.3
-[[shapes]]
-type = "sphere"
-center = [0.0, 0.0, 0.6]
-radius = 0.3
-interior = "cloud"
-[[lights]]
-type = "sphere"
-center = [0.0, 0.0, 0.0]
-radius = 1.0
-radiance = 1.0
-two_sided = true
-"#;
-    let desc = read_str(text, Path::new("mist.toml"), Path::new(".")).expect("reads");
-    build(&desc).expect("builds")
+    common::media::scene(&common::media::furnace_toml(0.0, 0.6, 16))
 }
 
 /// The image does not depend on the thread count; a render resumed from a checkpoint and

@@ -93,3 +93,42 @@ pub fn assert_every_integrator_renders_alike_on_one_and_two_threads(
         assert_eq!(images[0], images[1], "{integrator}");
     }
 }
+
+/// The text of a furnace: a closed sphere whose wall emits radiance 1 and reflects nothing,
+/// filled with media that scatter but do not absorb (a coloured mist, and a ball of a
+/// backward-scattering cloud behind an invisible boundary), with the camera at z =
+/// `camera_z` and the cloud's centre at z = `cloud_z`. Radiance 1 everywhere solves the
+/// transport equation there, so every pixel of every integrator reads 1.
+pub fn furnace_toml(camera_z: f32, cloud_z: f32, resolution: u32) -> String {
+    format!(
+        r#"
+medium = "mist"
+[camera]
+position = [0.0, 0.0, {camera_z}]
+look_at = [0.0, 0.0, -1.0]
+fov = 60.0
+resolution = [{resolution}, {resolution}]
+
+[media.mist]
+sigma_s = [1.0, 2.0, 4.0]
+g = 0.5
+
+[media.cloud]
+sigma_s = 5.0
+g = -0.3
+
+[[shapes]]
+type = "sphere"
+center = [0.0, 0.0, {cloud_z}]
+radius = 0.3
+interior = "cloud"
+
+[[lights]]
+type = "sphere"
+center = [0.0, 0.0, 0.0]
+radius = 1.0
+radiance = 1.0
+two_sided = true
+"#
+    )
+}

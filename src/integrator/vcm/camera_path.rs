@@ -110,13 +110,7 @@ pub fn camera_sample(
                 if depth > ctx.max_depth {
                     break;
                 }
-                let (material, frame) = scene.surface(&hit, wo, &mut lambda);
-                let s = Scatterer::Surface {
-                    material,
-                    frame,
-                    ng: hit.ng,
-                    wo_local: frame.to_local(wo),
-                };
+                let s = Scatterer::at_surface(scene, &hit, wo, &mut lambda);
                 (Site::Surface { hit, medium }, s)
             }
         };

@@ -133,13 +133,7 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
                 site::medium_scatterer(scene, medium, p, wo, &lambda),
             ),
             Interaction::Surface { hit, medium } => {
-                let (material, frame) = scene.surface(&hit, wo, &mut lambda);
-                let scatterer = Scatterer::Surface {
-                    material,
-                    frame,
-                    ng: hit.ng,
-                    wo_local: frame.to_local(wo),
-                };
+                let scatterer = Scatterer::at_surface(scene, &hit, wo, &mut lambda);
                 (Site::Surface { hit, medium }, scatterer)
             }
         };

@@ -303,13 +303,7 @@ impl LightVertex {
         match &self.site {
             Site::Surface { hit, .. } => {
                 let mut lambda = self.lambda_in;
-                let (material, frame) = ctx.scene.surface(hit, self.wo, &mut lambda);
-                Scatterer::Surface {
-                    material,
-                    frame,
-                    ng: hit.ng,
-                    wo_local: frame.to_local(self.wo),
-                }
+                Scatterer::at_surface(ctx.scene, hit, self.wo, &mut lambda)
             }
             Site::Medium { p, medium } => {
                 site::medium_scatterer(ctx.scene, *medium, *p, self.wo, &ctx.lambda)

@@ -120,6 +120,18 @@ pub(super) struct Scattered {
 }
 
 impl Scatterer {
+    /// The scatterer of the surface at `hit` seen from `wo`, for a subpath of wavelengths
+    /// `lambda` (updated as the material requires: a dispersive glass ends all but the hero).
+    pub fn at_surface(scene: &Scene, hit: &Hit, wo: Vec3, lambda: &mut Lambda) -> Self {
+        let (material, frame) = scene.surface(hit, wo, lambda);
+        Scatterer::Surface {
+            material,
+            frame,
+            ng: hit.ng,
+            wo_local: frame.to_local(wo),
+        }
+    }
+
     /// f(wo, wi) in `mode` for the world direction `wi`, with the densities (per solid angle,
     /// before Russian roulette) of sampling `wi` from `wo` and `wo` from `wi`.
     #[inline]
