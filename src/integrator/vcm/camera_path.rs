@@ -80,8 +80,8 @@ pub fn camera_sample(
                         n: Vec3::ZERO,
                         dir: ray.dir,
                     };
-                    let w = emission_weight(ctx, &found, depth, specular_only, &path_mis);
-                    l += beta * le * (w * spectral);
+                    l +=
+                        beta * le * (found.weight(ctx, depth, specular_only, &path_mis) * spectral);
                 }
                 break;
             }
@@ -94,18 +94,20 @@ pub fn camera_sample(
             Interaction::Surface { hit, medium } => {
                 let dist2 = (hit.p - ray.origin).length_squared();
                 path_mis.arrive(dist2, wo.dot(hit.ng).abs(), true);
-                if hit.light != NO_LIGHT {
-                    let le = scene.emitted(&hit, wo, &lambda);
-                    if le != Rgb::ZERO {
-                        let found = Found {
-                            index: hit.light as usize,
-                            p: hit.p,
-                            n: hit.ng,
-                            dir: ray.dir,
-                        };
-                        let w = emission_weight(ctx, &found, depth, specular_only, &path_mis);
-                        l += beta * le * (w * spectral);
-                    }
+                let le = if hit.light != NO_LIGHT {
+                    scene.emitted(&hit, wo, &lambda)
+                } else {
+                    Rgb::ZERO
+                };
+                if le != Rgb::ZERO {
+                    let found = Found {
+                        index: hit.light as usize,
+                        p: hit.p,
+                        n: hit.ng,
+                        dir: ray.dir,
+                    };
+                    l +=
+                        beta * le * (found.weight(ctx, depth, specular_only, &path_mis) * spectral);
                 }
                 if depth > ctx.max_depth {
                     break;
@@ -129,17 +131,8 @@ pub fn camera_sample(
                 hero_only: lambda.is_hero_only(),
                 ratio,
             };
-            let mut found = next_event(ctx, &v, &lambda, rng, stats);
-            for y in light_path {
-                if y.depth + depth > ctx.max_depth {
-                    break;
-                }
-                found += connect(ctx, &v, y, rng, stats);
-            }
-            if let Some(grid) = merge {
-                found += merged(ctx, &v, grid, scratch);
-            }
-            l += beta * found;
+            let techniques = Techniques { light_path, merge };
+            l += beta * techniques.gather(ctx, &v, &lambda, scratch, rng, stats);
         }
         let mode = TransportMode::Radiance;
         let Some(s) = continue_subpath(ctx, &scatterer, q, mode, rng, &mut path_mis) else {
@@ -164,28 +157,63 @@ struct Found {
     dir: Vec3,
 }
 
-/// The weight of emission a camera subpath of `depth` segments found, against next-event
-/// estimation and the light subpaths that could have made the same path.
-fn emission_weight(
-    ctx: &PassContext,
-    found: &Found,
-    depth: u32,
-    specular_only: bool,
-    path_mis: &PathMis,
-) -> f32 {
-    if depth == 1 {
-        // Seen directly: no other technique makes this path.
-        return 1.0;
+impl Found {
+    /// The weight of this emission, found by a camera subpath of `depth` segments, against
+    /// next-event estimation and the light subpaths that could have made the same path.
+    fn weight(
+        &self,
+        ctx: &PassContext,
+        depth: u32,
+        specular_only: bool,
+        path_mis: &PathMis,
+    ) -> f32 {
+        if depth == 1 {
+            // Seen directly: no other technique makes this path.
+            return 1.0;
+        }
+        if ctx.mode == VcmMode::LightTrace {
+            return if specular_only { 1.0 } else { 0.0 };
+        }
+        let light = &ctx.scene.lights()[self.index];
+        let pick = ctx.scene.light_choice_pmf(self.index);
+        let pdf_direct = light.pdf_direct_area(-self.dir) * pick;
+        let pdf_emit = light.pdf_emit(self.p, self.n, -self.dir) * pick;
+        let w_camera = mis(pdf_direct) * path_mis.vcm + mis(pdf_emit) * path_mis.vc;
+        1.0 / (1.0 + w_camera)
     }
-    if ctx.mode == VcmMode::LightTrace {
-        return if specular_only { 1.0 } else { 0.0 };
+}
+
+/// What a camera vertex is joined with besides a light sample: the pixel's light subpath,
+/// and the grid of every light subpath's vertices when merging.
+struct Techniques<'a> {
+    light_path: &'a [LightVertex],
+    merge: Option<&'a VertexGrid>,
+}
+
+impl Techniques<'_> {
+    /// The light every technique but emission hits brings to the camera vertex `v`: next-event
+    /// estimation, connections and merges, each weighed.
+    fn gather(
+        &self,
+        ctx: &PassContext,
+        v: &CameraVertex,
+        lambda: &Lambda,
+        scratch: &mut QueryScratch,
+        rng: &mut Rng,
+        stats: &mut RayStats,
+    ) -> Rgb {
+        let mut found = next_event(ctx, v, lambda, rng, stats);
+        for y in self.light_path {
+            if y.depth + v.depth > ctx.max_depth {
+                break;
+            }
+            found += connect(ctx, v, y, rng, stats);
+        }
+        if let Some(grid) = self.merge {
+            found += merged(ctx, v, grid, scratch);
+        }
+        found
     }
-    let light = &ctx.scene.lights()[found.index];
-    let pick = ctx.scene.light_choice_pmf(found.index);
-    let pdf_direct = light.pdf_direct_area(-found.dir) * pick;
-    let pdf_emit = light.pdf_emit(found.p, found.n, -found.dir) * pick;
-    let w_camera = mis(pdf_direct) * path_mis.vcm + mis(pdf_emit) * path_mis.vc;
-    1.0 / (1.0 + w_camera)
 }
 
 /// Next-event estimation at a camera vertex: one light chosen by power, sampled once.
