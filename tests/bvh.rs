@@ -102,6 +102,18 @@ fn check(scene: &Scene, ray: &Ray, what: &str) {
                     "{what}: different primitive at a different distance"
                 );
             }
+            // The barycentrics (smooth normals and texture coordinates follow them) as the
+            // shape's own test gives them.
+            let own = scene.shape(h.prim).intersect(ray, 0.0, f32::INFINITY);
+            if let Some(own) = own.filter(|o| (o.t - h.t).abs() <= tol) {
+                let d = (own.uv - h.barycentrics).abs().max_element();
+                assert!(
+                    d < 1e-4,
+                    "{what}: barycentrics {} vs {}",
+                    h.barycentrics,
+                    own.uv
+                );
+            }
             // Below ~1e-3 the hit is the ray's own surface, where any-hit answers within float error.
             for dist in [t * 0.5, t * 1.5].into_iter().filter(|_| t > 1e-3) {
                 assert_eq!(

@@ -8,10 +8,10 @@
 
 use crate::geometry::Bounds;
 use crate::math::{Ray, Vec3};
-use glam::Vec3A;
+use glam::{UVec2, Vec3A};
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
-use obvhs::{aabb::Aabb, cwbvh::CwBvh, ray::RayHit};
+use obvhs::{aabb::Aabb, cwbvh::CwBvh};
 
 mod binned_sah;
 #[cfg(feature = "embree")]
@@ -112,6 +112,10 @@ impl Bvh {
 
     /// Closest hit: `intersect(id, t_max)` returns the hit distance of primitive `id` below
     /// `t_max`, or infinity. Returns the id and distance of the nearest hit.
+    ///
+    /// The traversal is `obvhs`' own loop (its `traverse!` macro) written out here rather than
+    /// called through `CwBvh::ray_traverse`, so that `intersect` is inlined into it: through
+    /// the function it stayed a call per primitive tested.
     #[inline]
     pub fn closest_hit<F>(&self, ray: &Ray, t_max: f32, mut intersect: F) -> Option<(u32, f32)>
     where
@@ -120,11 +124,24 @@ impl Bvh {
         if self.empty {
             return None;
         }
-        let mut hit = RayHit::none();
-        let r = Self::to_obvhs(ray, t_max);
-        self.inner
-            .ray_traverse(r, &mut hit, |r, id| intersect(id as u32, r.tmax))
-            .then_some((hit.primitive_id, hit.t))
+        let mut r = Self::to_obvhs(ray, t_max);
+        let mut state = self.inner.new_traversal(r.direction);
+        let mut node;
+        let mut nearest = None;
+        obvhs::traverse!(
+            self.inner,
+            node,
+            state,
+            node.intersect_ray(&r, state.oct_inv4),
+            {
+                let t = intersect(state.primitive_id, r.tmax);
+                if t < r.tmax {
+                    nearest = Some(state.primitive_id);
+                    r.tmax = t;
+                }
+            }
+        );
+        nearest.map(|id| (id, r.tmax))
     }
 
     /// Whether any primitive is hit closer than `t_max`.
@@ -137,9 +154,24 @@ impl Bvh {
             return false;
         }
         let r = Self::to_obvhs(ray, t_max);
-        !self
-            .inner
-            .ray_traverse_miss(r, |r, id| intersect(id as u32, r.tmax))
+        let mut state = self.inner.new_traversal(r.direction);
+        let mut node;
+        let mut blocked = false;
+        'traversal: {
+            obvhs::traverse!(
+                self.inner,
+                node,
+                state,
+                node.intersect_ray(&r, state.oct_inv4),
+                {
+                    if intersect(state.primitive_id, r.tmax) < r.tmax {
+                        blocked = true;
+                        break 'traversal;
+                    }
+                }
+            );
+        }
+        blocked
     }
 
     /// Number of nodes, for statistics.

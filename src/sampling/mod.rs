@@ -85,6 +85,9 @@ pub fn uniform_triangle(u: Vec2) -> Vec3 {
     Vec3::new(b0, b1, 1.0 - b0 - b1)
 }
 
+/// Up to this many items, [`Distribution1D::sample`] scans the CDF rather than bisecting it.
+const LINEAR_SEARCH_MAX: usize = 8;
+
 /// A piecewise-constant distribution over `n` discrete items, sampled by inverting its CDF.
 /// Used to pick lights by power and triangles by area.
 #[derive(Clone, Debug)]
@@ -135,12 +138,20 @@ impl Distribution1D {
     /// [0, 1) within the chosen item so it can be reused.
     pub fn sample(&self, u: f32) -> (usize, f32) {
         let target = f64::from(u) * self.total;
-        // First index whose cdf exceeds target, skipping zero-weight items.
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= target)
-            .saturating_sub(1)
-            .min(self.weights.len() - 1);
+        // The first item whose cdf exceeds target (a linear scan over a few lights or
+        // triangles, a binary search over more), skipping zero-weight items.
+        let n = self.weights.len();
+        let i = if n <= LINEAR_SEARCH_MAX {
+            self.cdf[1..]
+                .iter()
+                .position(|&c| c > target)
+                .unwrap_or(n - 1)
+        } else {
+            self.cdf
+                .partition_point(|&c| c <= target)
+                .saturating_sub(1)
+                .min(n - 1)
+        };
         let i = self.first_nonzero_from(i);
         let w = self.weights[i];
         let rest = ((target - self.cdf[i]) / w).clamp(0.0, 1.0 - f64::EPSILON) as f32;
@@ -253,6 +264,32 @@ mod tests {
         assert!((d.pmf(2) - 0.75).abs() < 1e-6);
         assert!(Distribution1D::new(&[0.0, 0.0]).is_none());
         assert!(Distribution1D::new(&[]).is_none());
+    }
+
+    #[test]
+    fn distribution_1d_bisects_long_lists_to_the_same_items() {
+        // Past LINEAR_SEARCH_MAX items the search bisects: each item must still come up in
+        // proportion to its weight, and a zero-weight item never.
+        let weights: Vec<f64> = (0..20)
+            .map(|i| if i == 7 { 0.0 } else { f64::from(i % 5 + 1) })
+            .collect();
+        let total: f64 = weights.iter().sum();
+        let d = Distribution1D::new(&weights).expect("non-empty");
+        let n = 200_000;
+        let mut counts = vec![0usize; weights.len()];
+        for i in 0..n {
+            let (k, rest) = d.sample((i as f32 + 0.5) / n as f32);
+            assert!((0.0..1.0).contains(&rest));
+            counts[k] += 1;
+        }
+        for (k, w) in weights.iter().enumerate() {
+            let share = counts[k] as f64 / f64::from(n);
+            assert!(
+                (share - w / total).abs() < 1e-3,
+                "item {k}: {share} against {}",
+                w / total
+            );
+        }
     }
 
     #[test]
