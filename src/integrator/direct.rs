@@ -57,7 +57,7 @@ pub(super) fn radiance(
         Branch {
             depth: 0,
             weight: 1.0,
-            medium: scene.atmosphere(),
+            medium: scene.camera_medium(),
             ratio: Rgb::ONE,
             lambda: *lambda,
         },

@@ -41,7 +41,7 @@ pub(super) fn radiance(
     let mut l = Rgb::ZERO;
     let mut beta = Rgb::ONE;
     let mut ray = *camera_ray;
-    let mut medium = scene.atmosphere();
+    let mut medium = scene.camera_medium();
     // Spectral MIS in media (see `crate::medium`): the hero channel distances are drawn
     // with, and each channel's density of them over the hero's. Contributions are divided by
     // the mean ratio.

@@ -207,7 +207,7 @@ impl PhotonIntegrator {
             depth: 0,
             first: true,
             arrival: None,
-            medium: scene.atmosphere(),
+            medium: scene.camera_medium(),
             lambda: *lambda,
         };
         let mut s = self.trace(scene, ray, start, rng, stats);

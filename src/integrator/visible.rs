@@ -91,7 +91,7 @@ pub fn trace_camera_path<S: Sampler>(
     // While every bounce has been along a delta lobe: the weight of the light found. The
     // branches are traced without media, so scenes with media follow one branch.
     let mut chain = (!scene.has_media()).then_some(DeltaChain { weight: Rgb::ONE });
-    let mut medium = scene.atmosphere();
+    let mut medium = scene.camera_medium();
     // Spectral MIS in media (see `crate::medium`).
     let hero = scene.draw_hero_channel(rng);
     let mut ratio = Rgb::ONE;

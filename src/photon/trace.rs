@@ -441,7 +441,7 @@ fn trace_path(
     let mut ray = Ray::new(origin, e.dir);
     let mut specular_only = true;
     let mut smooth_last = false;
-    let mut medium = scene.atmosphere();
+    let mut medium = scene.light_medium(light_index);
     // Spectral MIS in media (see `crate::medium`): an RGB photon draws its distances with a
     // hero channel; a photon of one channel with its own.
     let hero = match ctx.channel.index() {

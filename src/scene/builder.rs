@@ -703,8 +703,11 @@ impl SceneBuilder {
             media: self.media,
             prim_boundary,
             atmosphere: self.atmosphere,
+            camera_medium: self.atmosphere,
+            light_media: Vec::new(),
         };
         scene.aim_distant_lights_at_view();
+        scene.locate_camera_and_lights_in_media();
         Ok(scene)
     }
 }

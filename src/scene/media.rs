@@ -2,9 +2,11 @@
 //! scattering point in a medium or a surface, past the invisible boundaries between media),
 //! and the transmittance of a shadow ray.
 //!
-//! A path carries the medium it is in. It starts in the scene's atmosphere (camera, point and
-//! spot lights sit there); crossing a [`Boundary`] puts it in the medium on the side it goes to,
-//! and any other surface leaves it where it was (pbrt-v4's rule, also Mitsuba 3's `volpath`).
+//! A path carries the medium it is in. It starts in the medium around the camera or its light:
+//! the scene's atmosphere, or the inside of the boundary they are in (found when the scene is
+//! built, as Cycles finds the volume a camera is in; pbrt-v4 and Mitsuba 3 ask the scene file
+//! to say it). Crossing a [`Boundary`] puts it in the medium on the side it goes to, and any
+//! other surface leaves it where it was (pbrt-v4's rule, also Mitsuba 3's `volpath`).
 
 use super::Scene;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
@@ -17,6 +19,11 @@ use super::Hit;
 /// How many invisible boundaries one ray may cross before it is taken as lost: a bound on
 /// the work of a ray that grazes along a boundary's seam.
 pub const MAX_CROSSINGS: u32 = 64;
+
+/// The directions [`Scene::medium_at`] probes along: not along an axis, so that a probe does
+/// not run along the faces of axis-aligned boxes, and three of them, so that one slipping
+/// through a seam of a boundary's mesh is outvoted.
+const PROBES: [[f32; 3]; 3] = [[1.0, 2.0, 3.0], [-3.0, 1.0, 2.0], [2.0, -3.0, -1.0]];
 
 /// What a ray meets next.
 #[derive(Clone, Copy, Debug)]
@@ -55,6 +62,70 @@ impl Scene {
     /// spot and distant lights are.
     pub fn atmosphere(&self) -> Option<MediumId> {
         self.atmosphere
+    }
+
+    /// The medium the camera is in (see [`Scene::medium_at`]).
+    pub fn camera_medium(&self) -> Option<MediumId> {
+        self.camera_medium
+    }
+
+    /// The medium light `i` emits into (see [`Scene::medium_at`]): distant lights are in the
+    /// atmosphere; a point or spot light in the medium at its position; a shape light in the
+    /// medium just in front of its first shape (a light across a boundary takes that side's).
+    pub fn light_medium(&self, i: usize) -> Option<MediumId> {
+        self.light_media.get(i).copied().unwrap_or(self.atmosphere)
+    }
+
+    /// The medium at the point `p`: that on `p`'s side of the first boundary a ray from `p`
+    /// meets (media do not nest, so the nearest boundary decides), or the atmosphere where no
+    /// ray meets one; the answer of most of three rays.
+    pub fn medium_at(&self, p: Vec3) -> Option<MediumId> {
+        if self.prim_boundary.is_empty() {
+            return self.atmosphere;
+        }
+        let [a, b, c] = PROBES.map(|d| self.medium_along(p, Vec3::from_array(d).normalize()));
+        if a != b && b == c { b } else { a }
+    }
+
+    /// The medium at `p` as seen along `dir`: that on `p`'s side of the first boundary hit.
+    fn medium_along(&self, p: Vec3, dir: Vec3) -> Option<MediumId> {
+        let mut origin = p;
+        for _ in 0..=MAX_CROSSINGS {
+            let Some(hit) = self.intersect(&Ray::new(origin, dir), f32::INFINITY) else {
+                return self.atmosphere;
+            };
+            if let Some(b) = self.boundary(hit.prim) {
+                return if dir.dot(hit.ng) > 0.0 {
+                    b.inside
+                } else {
+                    b.outside
+                };
+            }
+            origin = offset_origin(hit.p, hit.ng, dir);
+        }
+        self.atmosphere
+    }
+
+    /// Finds the media of the camera and of every light ([`Scene::camera_medium`],
+    /// [`Scene::light_medium`]); part of building a scene.
+    pub(super) fn locate_camera_and_lights_in_media(&mut self) {
+        self.camera_medium = self.medium_at(self.camera.position);
+        let light_media = self
+            .lights
+            .iter()
+            .map(|light| match light {
+                crate::light::Light::Point(l) => self.medium_at(l.position),
+                crate::light::Light::Spot(l) => self.medium_at(l.position),
+                crate::light::Light::Area(l) => {
+                    let s = l.shapes[0].sample_area(crate::math::Vec2::splat(0.5));
+                    self.medium_at(offset_origin(s.p, s.n, s.n))
+                }
+                crate::light::Light::Directional(_) | crate::light::Light::Environment(_) => {
+                    self.atmosphere
+                }
+            })
+            .collect();
+        self.light_media = light_media;
     }
 
     pub fn medium(&self, id: MediumId) -> &Medium {

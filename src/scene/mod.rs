@@ -145,8 +145,12 @@ pub struct Scene {
     /// The boundary each primitive is part of (the default, none, on the others); empty when
     /// no shape bounds a medium.
     prim_boundary: Vec<crate::medium::Boundary>,
-    /// The medium around every shape, where the camera is (`None`: vacuum).
+    /// The medium around every shape (`None`: vacuum).
     atmosphere: Option<crate::medium::MediumId>,
+    /// The medium the camera is in, and each light's (parallel to `lights`): the atmosphere,
+    /// or the inside of the boundary around them ([`Scene::medium_at`], found at build).
+    camera_medium: Option<crate::medium::MediumId>,
+    light_media: Vec<Option<crate::medium::MediumId>>,
     pub camera: CameraDesc,
     /// Index of the environment light among `lights`, if there is one.
     environment: Option<usize>,

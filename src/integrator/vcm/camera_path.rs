@@ -54,7 +54,7 @@ pub fn camera_sample(
     };
     let mut beta = Rgb::ONE;
     let mut l = Rgb::ZERO;
-    let mut medium = scene.atmosphere();
+    let mut medium = scene.camera_medium();
     let mut ratio = Rgb::ONE;
     // Whether every scattering so far was by a delta lobe (the emission such a subpath finds
     // is all that light tracing cannot).

@@ -116,7 +116,7 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
         offset_origin(e.origin, e.normal, e.dir)
     };
     let mut ray = Ray::new(origin, e.dir);
-    let mut medium = scene.atmosphere();
+    let mut medium = scene.light_medium(index);
     let mut ratio = Rgb::ONE;
     for depth in 1..=ctx.max_depth {
         out.rays.bounce += 1;
