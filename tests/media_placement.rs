@@ -59,6 +59,22 @@ fn photon_mapped_mean(scene: &Scene) -> f32 {
 
 const INK: [f32; 3] = [0.5, 1.0, 2.0];
 
+/// Scene text for a medium `ink` of absorption `sigma_a` filling the box [−`half`, `half`]³.
+fn ink_box(sigma_a: impl std::fmt::Debug, half: f32) -> String {
+    format!(
+        r#"
+[media.ink]
+sigma_a = {sigma_a:?}
+
+[[shapes]]
+type = "box"
+min = [-{half:?}, -{half:?}, -{half:?}]
+max = [{half:?}, {half:?}, {half:?}]
+interior = "ink"
+"#
+    )
+}
+
 /// The camera at z = 0.5 inside a box of ink, [−1, 1]³, looks along −z at an emitter of
 /// radiance 1 outside it: each ray crosses 1.5 of ink, so every pixel reads exp(−1.5 σa).
 /// A camera taken to be outside the box (in vacuum) would read 1.
@@ -71,21 +87,13 @@ position = [0.0, 0.0, 0.5]
 look_at = [0.0, 0.0, -1.0]
 fov = 1.0
 resolution = [4, 4]
-
-[media.ink]
-sigma_a = {INK:?}
-
-[[shapes]]
-type = "box"
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-interior = "ink"
-
+{}
 [[shapes]]
 type = "quad"
 vertices = [[-2.0, -2.0, -2.0], [2.0, -2.0, -2.0], [2.0, 2.0, -2.0], [-2.0, 2.0, -2.0]]
 emission = {{ radiance = 1.0, two_sided = true }}
-"#
+"#,
+        ink_box(INK, 1.0)
     ));
     let exact = INK.map(|sigma| (-1.5 * sigma).exp());
     for integrator in ["path", "direct", "photon", "sppm", "ppm"] {
@@ -114,19 +122,10 @@ position = [0.0, 0.0, 0.0]
 look_at = [0.0, 0.0, -1.0]
 fov = {fov_deg}
 resolution = [{size}, {size}]
-
-[media.ink]
-sigma_a = {sigma:?}
-
+{}
 [materials.wall]
 type = "diffuse"
 albedo = {albedo}
-
-[[shapes]]
-type = "box"
-min = [-5.0, -5.0, -5.0]
-max = [5.0, 5.0, 5.0]
-interior = "ink"
 
 [[shapes]]
 type = "quad"
@@ -137,7 +136,8 @@ material = "wall"
 type = "point"
 position = [0.0, 0.0, 0.0]
 intensity = {intensity}
-"#
+"#,
+        ink_box(sigma, 5.0)
     ));
     // The closed form at each pixel's centre, averaged over the image.
     let half = (0.5 * fov_deg.to_radians()).tan();
@@ -173,26 +173,17 @@ intensity = {intensity}
 /// taken to be.
 #[test]
 fn photons_leave_a_light_inside_a_box_of_ink_through_the_ink() {
-    let s = scene(
+    let s = scene(&format!(
         r#"
 [camera]
 position = [0.0, 1.0, 1.5]
 look_at = [0.0, 1.0, -1.0]
 fov = 30.0
 resolution = [8, 8]
-
-[media.ink]
-sigma_a = 0.5
-
+{}
 [materials.white]
 type = "diffuse"
 albedo = 0.8
-
-[[shapes]]
-type = "box"
-min = [-5.0, -5.0, -5.0]
-max = [5.0, 5.0, 5.0]
-interior = "ink"
 
 [[shapes]]
 type = "quad"
@@ -211,7 +202,8 @@ look_at = [0.0, 0.0, 0.5]
 intensity = 10.0
 angle = 40.0
 "#,
-    );
+        ink_box(0.5, 5.0)
+    ));
     let reference = image_mean(&s, "path", 1024).x;
     for integrator in ["photon", "sppm", "ppm"] {
         let got = if integrator == "photon" {
