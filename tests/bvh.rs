@@ -294,3 +294,78 @@ fn every_engine_answers_the_same_bits_when_the_scene_is_built_again() {
         }
     }
 }
+
+/// The octahedron with each face cut into four, `levels` times, its vertices pushed out to the
+/// unit sphere: a closed mesh whose vertices each touch four to six triangles.
+fn round_mesh(levels: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mut positions: Vec<Vec3> = common::OCTAHEDRON_VERTICES
+        .iter()
+        .map(|&v| Vec3::from_array(v))
+        .collect();
+    let mut faces = common::OCTAHEDRON_FACES.to_vec();
+    for _ in 0..levels {
+        let mut midpoints = std::collections::HashMap::new();
+        let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
+            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let m = (positions[a as usize] + positions[b as usize]).normalize();
+                positions.push(m);
+                positions.len() as u32 - 1
+            })
+        };
+        faces = faces
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let ab = midpoint(a, b, &mut positions);
+                let bc = midpoint(b, c, &mut positions);
+                let ca = midpoint(c, a, &mut positions);
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    (positions, faces)
+}
+
+#[test]
+fn no_ray_slips_between_triangles_sharing_an_edge_or_a_vertex() {
+    // A closed mesh under a rotation, a non-uniform scale and a translation; rays from inside
+    // aimed exactly at points of its edges and at its vertices must all hit it. With
+    // Möller–Trumbore 2.6% of the edge rays and 10% of the vertex rays escaped; with boxes not
+    // grown for the node test's rounding, 0.01% of the vertex rays. (Our BVH: Embree's default
+    // triangle test is not watertight.)
+    let (positions, faces) = round_mesh(3);
+    let to_world = glam::Affine3A::from_scale_rotation_translation(
+        Vec3::new(3.7, 2.3, 5.1),
+        glam::Quat::from_euler(glam::EulerRot::XYZ, 0.3, 1.1, -0.7),
+        Vec3::new(13.3, -7.1, 2.9),
+    );
+    let mut b = builder("closed mesh");
+    b.ray_engine(RayEngine::Bvh);
+    let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+    b.mesh(&positions, &faces, to_world, m, None)
+        .expect("valid mesh");
+    let scene = b.build().expect("valid scene");
+    let world: Vec<Vec3> = positions
+        .iter()
+        .map(|&p| to_world.transform_point3(p))
+        .collect();
+    let mut rng = Rng::keyed(11, &[]);
+    let mut escaped = [0; 2];
+    for i in 0..40_000 {
+        let inside = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
+        let o = to_world.transform_point3(inside);
+        let [a, b, _] = faces[rng.next_u32() as usize % faces.len()];
+        let target = if i % 2 == 0 {
+            world[a as usize].lerp(world[b as usize], rng.next_f32())
+        } else {
+            world[a as usize]
+        };
+        let dir = (target - o).normalize();
+        let far = 2.0 * (target - o).length();
+        if scene.intersect(&Ray::new(o, dir), f32::INFINITY).is_none()
+            || !scene.occluded(o, dir, far)
+        {
+            escaped[i % 2] += 1;
+        }
+    }
+    assert_eq!(escaped, [0, 0], "rays escaping through [edges, vertices]");
+}

@@ -40,12 +40,13 @@ fn assert_close(what: &str, got: Rgb, exact: [f32; 3], tolerance: f32) {
     }
 }
 
-/// The red mean of `photon`'s image with its own default settings and 16 samples per pixel
-/// (the media helpers' gather of every photon within a wide radius is made for furnaces).
+/// The red mean of `photon`'s image with its own default settings and 256 samples per pixel
+/// (the media helpers' gather of every photon within a wide radius is made for furnaces). At
+/// 16 the mean moves by ±5% from seed to seed here, as much as the test's bound.
 fn photon_mapped_mean(scene: &Scene) -> f32 {
     let options = photon::settings::RenderOptions {
         integrator: Some(photon::settings::IntegratorKind::Photon),
-        spp: Some(16),
+        spp: Some(256),
         ..Default::default()
     };
     let job = photon::render_job::RenderJob::new(scene, &Default::default(), options)

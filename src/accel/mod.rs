@@ -73,8 +73,28 @@ pub struct Bvh {
     empty: bool,
 }
 
-fn to_aabb(b: &Bounds) -> Aabb {
-    Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max))
+/// How far each primitive's box is grown, over the largest coordinate of the scene's bounds.
+const BOX_PADDING: f32 = 1.0 / 131_072.0;
+
+/// The primitives' boxes, each grown by [`BOX_PADDING`] of the scene's largest coordinate.
+/// `obvhs`' node test rounds (and it replaces a direction component below `f32::EPSILON` by
+/// that), so a ray through a box's corner or along its face can be judged to pass by: a ray
+/// aimed exactly at a triangle's vertex, where the triangle's box is tight, then missed it
+/// and every neighbour sharing the vertex, and escaped a closed mesh. Growing the boxes by a
+/// few dozen ulps makes the node test conservative (Ize, "Robust BVH Ray Traversal", JCGT 2013,
+/// does the same by widening the ray's interval); the exact triangle test decides.
+fn padded_boxes(bounds: &[Bounds]) -> Vec<Aabb> {
+    let total = bounds.iter().fold(Bounds::EMPTY, |a, b| a.union(*b));
+    let largest = total.min.abs().max(total.max.abs()).max_element();
+    let pad = if largest.is_finite() {
+        Vec3A::splat(largest * BOX_PADDING)
+    } else {
+        Vec3A::ZERO
+    };
+    bounds
+        .iter()
+        .map(|b| Aabb::new(Vec3A::from(b.min) - pad, Vec3A::from(b.max) + pad))
+        .collect()
 }
 
 impl Bvh {
@@ -88,7 +108,7 @@ impl Bvh {
             };
             return (bvh, Vec::new());
         }
-        let boxes: Vec<Aabb> = bounds.iter().map(to_aabb).collect();
+        let boxes = padded_boxes(bounds);
         let mut binary = binned_sah::build(&boxes);
         ReinsertionOptimizer::default().run(&mut binary, REINSERTION_BATCH_RATIO, None);
         let inner = bvh2_to_cwbvh(&binary, MAX_LEAF_PRIMITIVES, true, false);

@@ -7,7 +7,7 @@ mod triangle;
 
 pub use disk::Disk;
 pub use sphere::Sphere;
-pub use triangle::Triangle;
+pub use triangle::{ShearedRay, Triangle, transposed, watertight_hit};
 
 use crate::math::{Ray, Vec2, Vec3};
 use glam::Affine3A;

@@ -338,8 +338,9 @@ impl Scene {
         if det.abs() < 1e-12 {
             return None;
         }
-        let dpdu = (tri.e1 * d2.y - tri.e2 * d1.y) / det;
-        let dpdv = (tri.e2 * d1.x - tri.e1 * d2.x) / det;
+        let (e1, e2) = (tri.e1(), tri.e2());
+        let dpdu = (e1 * d2.y - e2 * d1.y) / det;
+        let dpdv = (e2 * d1.x - e1 * d2.x) / det;
         let n = hit.ns;
         let (tangent, bitangent) = match self.prim_tangents[hit.prim as usize] {
             // The file's tangents (glTF: interpolated, bitangent w·n × t), which follow the

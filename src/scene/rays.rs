@@ -10,8 +10,8 @@
 
 use crate::accel::{Bvh, RayEngine};
 use crate::error::{Error, Result};
-use crate::geometry::{Bounds, Shape, ShapeHit};
-use crate::math::{Ray, Vec2};
+use crate::geometry::{Bounds, Shape, ShapeHit, ShearedRay, transposed, watertight_hit};
+use crate::math::Ray;
 use glam::Vec3A;
 
 /// Shapes beside Embree up to this many are tested one by one rather than through a BVH of
@@ -205,10 +205,9 @@ impl RayCaster {
         accept: impl Fn(u32, &ShapeHit) -> bool,
     ) -> Option<(u32, ShapeHit)> {
         let mut best = None;
-        let origin = Vec3A::from(ray.origin);
-        let dir = Vec3A::from(ray.dir);
+        let sheared = ShearedRay::new(ray);
         let (prim, _) = self.bvh.closest_hit(ray, t_max, |id, t_max| {
-            match self.packed[id as usize].intersect(shapes, id, ray, origin, dir, t_max) {
+            match self.packed[id as usize].intersect(shapes, id, ray, &sheared, t_max) {
                 Some(h) if accept(id, &h) => {
                     best = Some(h);
                     h.t
@@ -226,77 +225,50 @@ impl RayCaster {
         t_max: f32,
         accept: impl Fn(u32, &ShapeHit) -> bool,
     ) -> bool {
-        let origin = Vec3A::from(ray.origin);
-        let dir = Vec3A::from(ray.dir);
+        let sheared = ShearedRay::new(ray);
         self.bvh.any_hit(ray, t_max, |id, t_max| {
             self.packed[id as usize]
-                .intersect(shapes, id, ray, origin, dir, t_max)
+                .intersect(shapes, id, ray, &sheared, t_max)
                 .filter(|h| accept(id, h))
                 .map_or(f32::INFINITY, |h| h.t)
         })
     }
 }
 
-/// A shape as the BVH's leaves test it: a triangle as its first vertex and edges in SIMD lanes
-/// (the same Möller–Trumbore test as [`crate::geometry::Triangle::intersect`], operation for
-/// operation, so the answers are the same to the bit); any other shape with zero edges, which
-/// sends the test to [`Shape::intersect`].
+/// A shape as the BVH's leaves test it: a triangle as its vertices by coordinate, tested by
+/// the same function as [`crate::geometry::Triangle::intersect`] (so the answers are the same
+/// to the bit); any other shape with a NaN first vertex, which sends the test to
+/// [`Shape::intersect`].
 #[derive(Clone, Copy, Debug)]
 struct PackedShape {
-    p0: Vec3A,
-    e1: Vec3A,
-    e2: Vec3A,
+    vertices: [Vec3A; 3],
 }
 
 impl PackedShape {
     fn new(shape: &Shape) -> Self {
         match shape {
             Shape::Triangle(t) => Self {
-                p0: Vec3A::from(t.p0),
-                e1: Vec3A::from(t.e1),
-                e2: Vec3A::from(t.e2),
+                vertices: transposed(t.vertices()),
             },
             Shape::Sphere(_) | Shape::Disk(_) => Self {
-                p0: Vec3A::ZERO,
-                e1: Vec3A::ZERO,
-                e2: Vec3A::ZERO,
+                vertices: [Vec3A::NAN; 3],
             },
         }
     }
 
-    /// The hit of `ray` (`origin`, `dir` the same in SIMD lanes) on shape `id` with `t` in
-    /// (0, `t_max`). A zero determinant (the ray in the triangle's plane, a degenerate
-    /// triangle, a shape that is not a triangle) is left to [`Shape::intersect`].
+    /// The hit of `ray` (`sheared` made from it) on shape `id` with `t` in (0, `t_max`).
     #[inline(always)]
     fn intersect(
         &self,
         shapes: &[Shape],
         id: u32,
         ray: &Ray,
-        origin: Vec3A,
-        dir: Vec3A,
+        sheared: &ShearedRay,
         t_max: f32,
     ) -> Option<ShapeHit> {
-        let pvec = dir.cross(self.e2);
-        let det = self.e1.dot(pvec);
-        if det == 0.0 || !det.is_finite() {
+        if self.vertices[0].x.is_nan() {
             return shapes[id as usize].intersect(ray, 0.0, t_max);
         }
-        let inv_det = 1.0 / det;
-        let tvec = origin - self.p0;
-        let b1 = tvec.dot(pvec) * inv_det;
-        if !(0.0..=1.0).contains(&b1) {
-            return None;
-        }
-        let qvec = tvec.cross(self.e1);
-        let b2 = dir.dot(qvec) * inv_det;
-        if b2 < 0.0 || b1 + b2 > 1.0 {
-            return None;
-        }
-        let t = self.e2.dot(qvec) * inv_det;
-        (t > 0.0 && t < t_max).then_some(ShapeHit {
-            t,
-            uv: Vec2::new(b1, b2),
-        })
+        watertight_hit(sheared, &self.vertices, 0.0, t_max)
     }
 }
