@@ -369,3 +369,50 @@ fn no_ray_slips_between_triangles_sharing_an_edge_or_a_vertex() {
     }
     assert_eq!(escaped, [0, 0], "rays escaping through [edges, vertices]");
 }
+
+#[test]
+fn answers_scale_exactly_with_the_scene() {
+    // The same closed mesh (its vertices 1 unit from its centre) at 2⁻²⁰ and 2²⁰ of its size:
+    // a power of two scales every coordinate and distance exactly, so every ray must hit the
+    // same triangle at exactly the scaled distance. The node test once skipped every box a
+    // ray left within 10⁻⁴ of its origin: at 2⁻²⁰ every ray escaped the mesh.
+    let (positions, faces) = round_mesh(3);
+    let place = |scale: f32| {
+        glam::Affine3A::from_scale_rotation_translation(
+            Vec3::new(1.3, 0.8, 1.1) * scale,
+            glam::Quat::from_euler(glam::EulerRot::XYZ, 0.4, -0.9, 0.2),
+            Vec3::new(0.75, -0.5, 0.25) * scale,
+        )
+    };
+    let build = |scale: f32| {
+        let mut b = builder("closed mesh");
+        b.ray_engine(RayEngine::Bvh);
+        let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+        b.mesh(&positions, &faces, place(scale), m, None)
+            .expect("valid mesh");
+        b.build().expect("valid scene")
+    };
+    let unit = build(1.0);
+    for scale in [2f32.powi(-20), 2f32.powi(20)] {
+        let scaled = build(scale);
+        let mut rng = Rng::keyed(12, &[]);
+        for i in 0..5_000 {
+            let inside = (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * 0.5;
+            let dir = uniform_sphere(rng.next_2d());
+            let o = place(1.0).transform_point3(inside);
+            let want = unit
+                .intersect(&Ray::new(o, dir), f32::INFINITY)
+                .expect("a ray from inside hits the closed mesh");
+            let ray = Ray::new(o * scale, dir);
+            let got = scaled.intersect(&ray, f32::INFINITY);
+            let got = got.unwrap_or_else(|| panic!("ray {i} escaped at scale {scale}"));
+            assert_eq!(
+                (got.prim, got.t),
+                (want.prim, want.t * scale),
+                "ray {i} at scale {scale}"
+            );
+            assert!(scaled.occluded(ray.origin, dir, got.t * 1.5), "ray {i}");
+            assert!(!scaled.occluded(ray.origin, dir, got.t * 0.5), "ray {i}");
+        }
+    }
+}

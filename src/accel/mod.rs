@@ -3,8 +3,10 @@
 //! A thin layer over `obvhs`' compressed 8-wide BVH (Ylitie et al., "Efficient Incoherent Ray
 //! Traversal on GPUs Through Compressed Wide BVHs", 2017), chosen by measurement: the fastest
 //! pure-Rust BVH we measured (5.1 M camera and 1.7 M bounce rays/s on one core, against 2.1 M
-//! and 0.7 M for `parry3d` and `bvh`). It knows only boxes and primitive indices; what a
-//! primitive is stays with the caller's intersection closure.
+//! and 0.7 M for `parry3d` and `bvh`). Its nodes and traversal order are obvhs'; the ray–node
+//! test is ours ([`node_test`]), so that the answers do not depend on the scene's unit. It
+//! knows only boxes and primitive indices; what a primitive is stays with the caller's
+//! intersection closure.
 
 use crate::geometry::Bounds;
 use crate::math::{Ray, Vec3};
@@ -16,6 +18,9 @@ use obvhs::{aabb::Aabb, cwbvh::CwBvh};
 mod binned_sah;
 #[cfg(feature = "embree")]
 pub mod embree;
+mod node_test;
+
+use node_test::{NodeRay, hit_children};
 
 /// Which ray caster holds a scene's triangles: our BVH (obvhs' wide BVH over our own SAH
 /// build), or Intel Embree when the `embree` cargo feature is compiled in.
@@ -77,12 +82,13 @@ pub struct Bvh {
 const BOX_PADDING: f32 = 1.0 / 131_072.0;
 
 /// The primitives' boxes, each grown by [`BOX_PADDING`] of the scene's largest coordinate.
-/// `obvhs`' node test rounds (and it replaces a direction component below `f32::EPSILON` by
-/// that), so a ray through a box's corner or along its face can be judged to pass by: a ray
-/// aimed exactly at a triangle's vertex, where the triangle's box is tight, then missed it
-/// and every neighbour sharing the vertex, and escaped a closed mesh. Growing the boxes by a
-/// few dozen ulps makes the node test conservative (Ize, "Robust BVH Ray Traversal", JCGT 2013,
-/// does the same by widening the ray's interval); the exact triangle test decides.
+/// The node test rounds, so a ray through a box's corner or along its face can be judged to
+/// pass by: a ray aimed exactly at a triangle's vertex, where the triangle's box is tight,
+/// then missed it and every neighbour sharing the vertex, and escaped a closed mesh. The node
+/// test widens its far distance by the rounding bound of the slab method (Ize, "Robust BVH Ray
+/// Traversal", JCGT 2013), but its distances to the quantised planes add two rounded terms,
+/// whose cancellation that bound does not cover; growing the boxes by a few dozen ulps of the
+/// scene does. The exact triangle test decides.
 fn padded_boxes(bounds: &[Bounds]) -> Vec<Aabb> {
     let total = bounds.iter().fold(Bounds::EMPTY, |a, b| a.union(*b));
     let largest = total.min.abs().max(total.max.abs()).max_element();
@@ -122,14 +128,6 @@ impl Bvh {
         )
     }
 
-    fn to_obvhs(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
-        // Adding +0 turns −0 into +0: obvhs inverts a −0 component to a negative number but
-        // picks the traversal order by `d < 0`, which is false for −0, and then misses (a
-        // straight-down ray built as −z has −0 in x and y).
-        let dir = Vec3A::from(ray.dir) + Vec3A::ZERO;
-        obvhs::ray::Ray::new(Vec3A::from(ray.origin), dir, 0.0, t_max)
-    }
-
     /// Closest hit: `intersect(id, t_max)` returns the hit distance of primitive `id` below
     /// `t_max`, or infinity. Returns the id and distance of the nearest hit.
     ///
@@ -144,24 +142,25 @@ impl Bvh {
         if self.empty {
             return None;
         }
-        let mut r = Self::to_obvhs(ray, t_max);
-        let mut state = self.inner.new_traversal(r.direction);
+        let r = NodeRay::new(Vec3A::from(ray.origin), Vec3A::from(ray.dir));
+        let mut t_max = t_max;
+        let mut state = self.inner.new_traversal(r.direction());
         let mut node;
         let mut nearest = None;
         obvhs::traverse!(
             self.inner,
             node,
             state,
-            node.intersect_ray(&r, state.oct_inv4),
+            hit_children(node, &r, t_max, state.oct_inv4),
             {
-                let t = intersect(state.primitive_id, r.tmax);
-                if t < r.tmax {
+                let t = intersect(state.primitive_id, t_max);
+                if t < t_max {
                     nearest = Some(state.primitive_id);
-                    r.tmax = t;
+                    t_max = t;
                 }
             }
         );
-        nearest.map(|id| (id, r.tmax))
+        nearest.map(|id| (id, t_max))
     }
 
     /// Whether any primitive is hit closer than `t_max`.
@@ -173,8 +172,8 @@ impl Bvh {
         if self.empty {
             return false;
         }
-        let r = Self::to_obvhs(ray, t_max);
-        let mut state = self.inner.new_traversal(r.direction);
+        let r = NodeRay::new(Vec3A::from(ray.origin), Vec3A::from(ray.dir));
+        let mut state = self.inner.new_traversal(r.direction());
         let mut node;
         let mut blocked = false;
         'traversal: {
@@ -182,9 +181,9 @@ impl Bvh {
                 self.inner,
                 node,
                 state,
-                node.intersect_ray(&r, state.oct_inv4),
+                hit_children(node, &r, t_max, state.oct_inv4),
                 {
-                    if intersect(state.primitive_id, r.tmax) < r.tmax {
+                    if intersect(state.primitive_id, t_max) < t_max {
                         blocked = true;
                         break 'traversal;
                     }
