@@ -207,3 +207,56 @@ impl Bvh {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Wide nodes on the longest root-to-leaf path of `bvh`.
+    fn wide_depth(bvh: &Bvh) -> usize {
+        let nodes = &bvh.inner.nodes;
+        let mut stack = vec![(0usize, 1usize)];
+        let mut deepest = 0;
+        while let Some((i, depth)) = stack.pop() {
+            deepest = deepest.max(depth);
+            let node = &nodes[i];
+            for child in 0..8 {
+                if !node.is_leaf(child) {
+                    stack.push((node.child_node_index(child) as usize, depth + 1));
+                }
+            }
+        }
+        deepest
+    }
+
+    fn cube(at: Vec3) -> Bounds {
+        Bounds {
+            min: at,
+            max: at + Vec3::splat(0.05),
+        }
+    }
+
+    /// obvhs' traversal keeps its pending node groups on a stack of 32 entries, one per level
+    /// at most, and a push onto a full stack overwrites its top entry: a tree 32 wide nodes
+    /// deep would lose nodes without a word. The binned build's median fallback bounds the
+    /// binary tree's depth; the widened tree, after reinsertion, must keep a margin below 32
+    /// even for layouts the SAH splits worst (a box peeled off per level).
+    #[test]
+    fn adversarial_layouts_stay_within_the_traversal_stack() {
+        let n = 50_000;
+        let layouts: [Vec<Bounds>; 3] = [
+            (0..n).map(|_| cube(Vec3::ZERO)).collect(),
+            (0..n)
+                .map(|i| cube(Vec3::new(1.001f32.powi(i), 0.0, 0.0)))
+                .collect(),
+            (0..n)
+                .map(|i| cube(Vec3::new(1.0001f32.powi(i), 1.0002f32.powi(i), 0.0)))
+                .collect(),
+        ];
+        for (k, boxes) in layouts.iter().enumerate() {
+            let (bvh, _) = Bvh::build(boxes);
+            let depth = wide_depth(&bvh);
+            assert!(depth <= 24, "layout {k}: {depth} wide nodes deep");
+        }
+    }
+}
