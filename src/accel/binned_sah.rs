@@ -18,7 +18,7 @@ const BINS: usize = 16;
 
 /// Past this depth only median splits are made, which bounds the depth (and the build's
 /// cost) at `MEDIAN_DEPTH + log2(n)` whatever the SAH would choose.
-const MEDIAN_DEPTH: usize = 48;
+pub const MEDIAN_DEPTH: usize = 48;
 
 #[derive(Clone, Copy)]
 struct Bin {
@@ -33,8 +33,9 @@ impl Bin {
     };
 }
 
-/// A binary BVH over `boxes` with one primitive per leaf.
-pub fn build(boxes: &[Aabb]) -> Bvh2 {
+/// A binary BVH over `boxes` with one primitive per leaf, split by the SAH down to depth
+/// `median_depth` and at the median below it (0: a balanced tree).
+pub fn build(boxes: &[Aabb], median_depth: usize) -> Bvh2 {
     let n = boxes.len();
     let centroids: Vec<_> = boxes.iter().map(Aabb::center).collect();
     let mut indices: Vec<u32> = (0..n as u32).collect();
@@ -53,7 +54,7 @@ pub fn build(boxes: &[Aabb]) -> Bvh2 {
             nodes[node] = Bvh2Node::new(bounds, 1, first as u32);
             continue;
         }
-        let middle = first + split(range, boxes, &centroids, depth);
+        let middle = first + split(range, boxes, &centroids, depth >= median_depth);
         // Siblings sit side by side, the left at an odd index, as `Bvh2` requires.
         let left = next_node;
         next_node += 2;
@@ -71,22 +72,22 @@ pub fn build(boxes: &[Aabb]) -> Bvh2 {
 
 /// Reorder `range` so that its first `k` primitives form the left child; returns `k`, which is
 /// always in `1..range.len()`.
-fn split(range: &mut [u32], boxes: &[Aabb], centroids: &[glam::Vec3A], depth: usize) -> usize {
+fn split(range: &mut [u32], boxes: &[Aabb], centroids: &[glam::Vec3A], median: bool) -> usize {
     let centre_bounds = range.iter().fold(Aabb::INVALID, |mut b, &i| {
         b.extend(centroids[i as usize]);
         b
     });
     let extent = centre_bounds.diagonal();
-    let median = range.len() / 2;
-    if depth >= MEDIAN_DEPTH || extent.max_element() <= 0.0 {
+    let half = range.len() / 2;
+    if median || extent.max_element() <= 0.0 {
         // All centroids equal (or the depth limit): any halving is as good as another.
         if extent.max_element() > 0.0 {
             let axis = extent.max_position();
-            range.select_nth_unstable_by(median, |&a, &b| {
+            range.select_nth_unstable_by(half, |&a, &b| {
                 centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
             });
         }
-        return median;
+        return half;
     }
     let mut best: Option<(f32, usize, usize)> = None;
     for axis in 0..3 {
@@ -123,7 +124,7 @@ fn split(range: &mut [u32], boxes: &[Aabb], centroids: &[glam::Vec3A], depth: us
     }
     let Some((_, axis, k)) = best else {
         // Every primitive fell in one bin on every axis (extents near float precision).
-        return median;
+        return half;
     };
     let bin_of = bin_index(centre_bounds.min[axis], extent[axis]);
     let mut left = 0;
@@ -163,7 +164,7 @@ mod tests {
     /// Every primitive in exactly one leaf, every node's box around its children's, and the
     /// depth within the bound that keeps the build O(n log n).
     fn check(boxes: &[Aabb]) -> usize {
-        let bvh = build(boxes);
+        let bvh = build(boxes, MEDIAN_DEPTH);
         let mut seen = vec![false; boxes.len()];
         let mut stack = vec![(0usize, 0usize)];
         let mut deepest = 0;
@@ -216,7 +217,7 @@ mod tests {
             .collect();
         boxes.extend((0..100).map(|i| unit_box(Vec3A::new(50.0 + i as f32 * 0.01, 0.0, 0.0))));
         check(&boxes);
-        let bvh = build(&boxes);
+        let bvh = build(&boxes, MEDIAN_DEPTH);
         let left = bvh.nodes[bvh.nodes[0].first_index as usize].aabb();
         assert!(left.max.x < 2.0 || left.min.x > 40.0, "{left:?}");
     }
