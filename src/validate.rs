@@ -76,7 +76,8 @@ pub struct Budget {
     pub caustic_photons: u64,
     pub passes: u32,
     pub photons_per_pass: u64,
-    /// Passes of the vcm family (one light and one camera path per pixel each).
+    /// Passes of the vcm family (a camera path per pixel each, and a light path per four pixels,
+    /// or per pixel for `lighttrace`).
     pub vcm_passes: u32,
     /// Initial radius of the progressive methods as a fraction of the scene's diagonal. The
     /// command line's default (4 or 6 pixel footprints) is made for full-size images: at 32² it is

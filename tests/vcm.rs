@@ -323,7 +323,7 @@ fn the_command_line_renders_vcm_and_refuses_what_is_not_its_setting() {
         assert!(o.status.success(), "{method}: {}", stderr(&o));
         assert!(dir.join(&out).exists(), "{method} wrote its image");
     }
-    // vcm traces one light path per pixel: photons per pass is not its setting.
+    // vcm sets its own light paths per pass: photons per pass is not its setting.
     let o = photon(
         &[
             "render",

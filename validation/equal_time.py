@@ -11,7 +11,7 @@ crop (by default the glossy Cornell box's caustic under its rough glass sphere).
     python validation/equal_time.py --scene volumetric-caustic --integrators sppm ppm path \
         --crop 52,60,76,118 --budgets 12 60
     python validation/equal_time.py --scene cornell --scene-file cornell \
-        --xml ../shared/scenes/cornell-box/cornell.xml --reference bench/references/cornell.exr \
+        --xml bench/mitsuba/cornell/cornell.xml --reference bench/references/cornell.exr \
         --integrators vcm sppm photon path --budgets 12 60 --crop 290,326,390,344
 
 Budgets are met by calibration: a short run measures the fixed cost (photon tracing, JIT) and

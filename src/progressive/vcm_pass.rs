@@ -68,7 +68,7 @@ pub(super) fn run(
             let mut scratch = QueryScratch::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let (ray, mut rng) = camera_ray(&camera, c, &jitter, pass, x, y);
-                let path = light.of(y * width + x);
+                let path = light.of((y * width + x) % ctx.light_paths as usize);
                 let merge = grid.as_ref();
                 *px = camera_sample(&ctx, ray, path, merge, &mut scratch, &mut rng, &mut stats);
             }

@@ -473,7 +473,7 @@ render_settings! {
             Err("must be a positive number of seconds".into())
         },
     }
-    /// Photons traced per pass (the vcm family traces one light path per pixel).
+    /// Photons traced per pass (the vcm family sets its own: a light path per four pixels).
     photons_per_pass: u64 {
         group: Progressive, takes: Takes::PHOTON_PASSES,
         default: DefaultValue::Value(|_| d::PHOTONS_PER_PASS.to_string()), note: "",

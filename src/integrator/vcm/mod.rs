@@ -2,11 +2,12 @@
 //! Transport Simulation with Vertex Connection and Merging", 2012), with bidirectional path
 //! tracing and light tracing as modes of the same code, as in SmallVCM.
 //!
-//! A pass traces one light subpath per pixel and keeps its vertices on surfaces with a
-//! density (delta lobes cannot be connected to or merged at). Then every pixel's camera
-//! subpath, at each such vertex of its own:
+//! A pass traces one light subpath per few pixels ([`VcmMode::pixels_per_light_subpath`])
+//! and keeps its vertices on surfaces with a density (delta lobes cannot be connected to or merged at).
+//! Then every pixel's camera subpath, at each such vertex of its own:
 //! - samples a light (next-event estimation: a light subpath of one vertex);
-//! - connects to every vertex of the light subpath with the pixel's index;
+//! - connects to every vertex of the pixel's light subpath (pixel i's is subpath i mod N,
+//!   for N subpaths: the pixels that share one lie N pixels apart, a quarter of the image);
 //! - merges with the light vertices of all subpaths within the pass's radius (photon
 //!   density estimation, the radius shrinking over passes as in probabilistic PPM);
 //! - and counts the emission it hits.
@@ -74,6 +75,21 @@ impl VcmMode {
     pub fn merges(self) -> bool {
         self == VcmMode::Vcm
     }
+
+    /// Pixels per light subpath of a pass. SmallVCM traces one per pixel. Every camera
+    /// subpath still connects to one light subpath, and the weights count the light subpaths
+    /// a pass really has (light tracing's and merging's N), so any number is unbiased.
+    /// Fewer make a pass cheaper (its merges and light tracing): at equal time one per four
+    /// pixels measured 1.2–1.6× lower relMSE than one per pixel for `vcm` on every scene
+    /// tried (diffuse and glossy Cornell boxes, a door ajar, a lamp shade, a caustic seen in a
+    /// mirror), and one per eight lost again on the diffuse box. Light tracing has no other
+    /// samples, so it keeps one per pixel.
+    pub fn pixels_per_light_subpath(self) -> u32 {
+        match self {
+            VcmMode::Vcm | VcmMode::Bdpt => 4,
+            VcmMode::LightTrace => 1,
+        }
+    }
 }
 
 /// Everything fixed for one pass.
@@ -85,7 +101,7 @@ pub struct PassContext<'a> {
     pub max_depth: u32,
     /// The pass's wavelengths, shared by its camera and light subpaths.
     pub lambda: Lambda,
-    /// Light subpaths traced (one per pixel).
+    /// Light subpaths traced: one per [`VcmMode::pixels_per_light_subpath`] pixels.
     pub light_paths: u32,
     /// Merging radius.
     pub radius: f32,
@@ -133,7 +149,7 @@ impl<'a> PassContext<'a> {
         radius: f32,
         hero: usize,
     ) -> Self {
-        let light_paths = camera.width * camera.height;
+        let light_paths = (camera.width * camera.height).div_ceil(mode.pixels_per_light_subpath());
         let n = light_paths as f32;
         Self {
             scene,
