@@ -52,24 +52,49 @@ impl Frame {
     }
 }
 
-/// Offset for a ray leaving a surface at `p`, large enough to clear the float error of the hit
-/// point (which grows with the magnitude of the coordinates), small enough to be invisible.
-/// About 170 float ulps of the largest coordinate: well above the error of our intersection
-/// routines (a few ulps), far below any feature size.
-pub fn surface_epsilon(p: Vec3) -> f32 {
-    2e-5 * (p.abs().max_element() + 1e-2)
+/// The rounding a photon estimate's plane test allows for points near `p` (see
+/// `photon::estimate::disc_distance2`): about 170 float ulps of its largest coordinate, far
+/// above the error of computed hit points. No floor in scene units: near the origin, where
+/// this vanishes, the test's allowance for the normals' error (a share of the distance)
+/// covers the coordinates' rounding, which shrinks with them.
+pub fn plane_tolerance(p: Vec3) -> f32 {
+    2e-5 * p.abs().max_element()
 }
 
-/// Origin for a ray leaving the surface at `p` (geometric normal `ng`) in direction `dir`:
-/// pushed to the side of the surface that `dir` goes to. This keeps reflected rays outside and
-/// refracted rays inside a sphere, which the original project got wrong.
-pub fn offset_origin(p: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
-    let eps = surface_epsilon(p);
+/// γₙ = nε / (1 − nε) with ε = 2⁻²⁴, the unit roundoff: a bound on the relative error of n
+/// rounded operations (Higham 2002, §3.1; pbrt-v4 §6.8.1).
+pub const fn gamma(n: u32) -> f32 {
+    let e = n as f32 * (f32::EPSILON * 0.5);
+    e / (1.0 - e)
+}
+
+/// Origin for a ray leaving the surface point `p` (each coordinate within `error` of the true
+/// surface, geometric normal `ng`) in direction `dir`: moved along the normal, to the side
+/// `dir` goes to, past the box of the point's error and the rounding of the move itself (γ₂
+/// of each coordinate; pbrt-v4 §6.8.6 rounds each coordinate one float away instead, which
+/// costs branches). The true surface then lies behind the origin, so the ray cannot meet it
+/// again at its start, and no scene unit or position makes the offset large: it is a few
+/// ulps of the hit point's own coordinates. This keeps reflected rays outside and refracted
+/// rays inside a sphere, which the original project got wrong.
+#[inline]
+pub fn offset_origin(p: Vec3, error: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
+    let d = ng.abs().dot(error + gamma(2) * p.abs());
     if dir.dot(ng) >= 0.0 {
-        p + eps * ng
+        p + d * ng
     } else {
-        p - eps * ng
+        p - d * ng
     }
+}
+
+/// How far along a segment from `from` to `to` (its length `dist`) a surface counts as in
+/// the way: all but its last 10⁻⁴ (pbrt-v4's `ShadowEpsilon`) and 32 ulps of the ends'
+/// coordinates. A segment often ends on a surface (a light, a vertex it connects to), offset
+/// from it by that point's error alone, which can be zero (a point of the plane y = 0 is
+/// exact across it); the distance at which the segment then meets its own end's surface
+/// rounds with the segment's coordinates and length, and must not count as a blocker.
+#[inline]
+pub fn segment_reach(from: Vec3, to: Vec3, dist: f32) -> f32 {
+    dist * (1.0 - 1e-4) - gamma(64) * (from.abs().max_element() + to.abs().max_element())
 }
 
 /// Reflect `w` (pointing away from the surface) about the normal `n`.
@@ -117,10 +142,16 @@ mod tests {
     }
 
     #[test]
-    fn offset_origin_goes_to_the_side_of_the_direction() {
+    fn offset_origin_goes_to_the_side_of_the_direction_past_the_error() {
         let p = Vec3::new(1.0, 2.0, 3.0);
         let n = Vec3::Z;
-        assert!(offset_origin(p, n, Vec3::new(0.0, 0.3, 1.0)).z > p.z);
-        assert!(offset_origin(p, n, Vec3::new(0.0, 0.3, -1.0)).z < p.z);
+        let error = Vec3::splat(1e-6);
+        assert!(offset_origin(p, error, n, Vec3::new(0.0, 0.3, 1.0)).z > p.z + 1e-6);
+        assert!(offset_origin(p, error, n, Vec3::new(0.0, 0.3, -1.0)).z < p.z - 1e-6);
+        // With no error the origin still moves past the rounding of the move, along the
+        // normal alone.
+        let o = offset_origin(p, Vec3::ZERO, n, Vec3::Z);
+        assert!(o.z > p.z && o.z < p.z + 1e-6, "{o}");
+        assert_eq!((o.x, o.y), (p.x, p.y));
     }
 }

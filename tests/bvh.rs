@@ -10,7 +10,7 @@ use photon::camera::CameraDesc;
 use photon::material::{Lambertian, Material};
 use photon::math::{Ray, Rgb, Vec3};
 use photon::sampling::{Rng, uniform_sphere};
-use photon::scene::{Scene, SceneBuilder};
+use photon::scene::{Hit, Scene, SceneBuilder};
 
 /// A scene builder with a camera (which every scene needs; these tests cast their own rays).
 fn builder(name: &str) -> SceneBuilder {
@@ -206,14 +206,14 @@ fn offset_rays_leave_triangle_meshes_without_hitting_them() {
             if out.dot(n) < 0.05 {
                 continue;
             }
-            let leaving = Ray::new(photon::math::offset_origin(s.p, n, out), out);
+            let leaving = Ray::new(photon::math::offset_origin(s.p, s.error, n, out), out);
             assert!(
                 scene.intersect(&leaving, f32::INFINITY).is_none(),
                 "{}: self-hit leaving, ray {i}",
                 engine.name()
             );
             out = -out;
-            let entering = Ray::new(photon::math::offset_origin(s.p, n, out), out);
+            let entering = Ray::new(photon::math::offset_origin(s.p, s.error, n, out), out);
             let hit = scene.intersect(&entering, f32::INFINITY);
             assert!(
                 hit.is_some(),
@@ -224,41 +224,132 @@ fn offset_rays_leave_triangle_meshes_without_hitting_them() {
     }
 }
 
+/// Where each test of ray offsets puts its shape: near the origin at the scale of a room, a
+/// 5 cm ball 500 units from the origin, and one of 8 millionths of a unit near it (a scene
+/// modelled in kilometres). Offsets once were a fixed share of the coordinates with a floor in
+/// scene units (2·10⁻⁵ (|p| + 10⁻²)): 8 mm out there, and a quarter of the tiny ball's radius.
+const OFFSET_PLACES: [(Vec3, f32); 3] = [
+    (Vec3::new(3.0, -2.0, 7.0), 0.08),
+    (Vec3::new(300.0, -200.0, 400.0), 0.05),
+    (Vec3::new(3e-4, -2e-4, 7e-4), 8e-6),
+];
+
+/// A ray aimed from outside at a random point of a closed convex shape centred at `center`
+/// with extent `size`, and the hit it makes.
+fn hit_from_outside(scene: &Scene, center: Vec3, size: f32, rng: &mut Rng) -> Option<Hit> {
+    let from = center + 3.0 * size * uniform_sphere(rng.next_2d());
+    let to = center + 0.5 * size * uniform_sphere(rng.next_2d());
+    scene.intersect(&Ray::new(from, (to - from).normalize()), f32::INFINITY)
+}
+
 #[test]
 fn offset_rays_do_not_hit_their_own_surface() {
-    // A ray leaving a sphere outward must not hit it; one refracted inward must hit its far side.
-    let mut b = builder("one sphere");
-    let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
-    let center = Vec3::new(3.0, -2.0, 7.0);
-    let radius = 0.08;
-    b.sphere(center, radius, m, None);
-    let scene = b.build().expect("valid");
-    let mut rng = Rng::keyed(5, &[]);
-    for _ in 0..10_000 {
-        let n = uniform_sphere(rng.next_2d());
-        let p = center + radius * n;
-        let mut out = uniform_sphere(rng.next_2d());
-        if out.dot(n) < 0.0 {
-            out = -out;
+    // From a hit on a sphere or a closed convex mesh, a ray leaving outward must escape, and
+    // one leaving inward must cross to the far side, at a distance within rounding of the
+    // chord: never the surface it starts on, and not displaced by a visible offset.
+    for (center, radius) in OFFSET_PLACES {
+        for shape in ["sphere", "mesh"] {
+            let mut b = builder(shape);
+            b.ray_engine(RayEngine::Bvh);
+            let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+            if shape == "sphere" {
+                b.sphere(center, radius, m, None);
+            } else {
+                let (positions, faces) = round_mesh(3);
+                let place = glam::Affine3A::from_scale_rotation_translation(
+                    Vec3::splat(radius),
+                    glam::Quat::from_euler(glam::EulerRot::XYZ, 0.4, -0.9, 0.2),
+                    center,
+                );
+                b.mesh(&positions, &faces, place, m, None).expect("mesh");
+            }
+            let scene = b.build().expect("valid");
+            let mut rng = Rng::keyed(5, &[]);
+            let mut checked = 0;
+            for _ in 0..5_000 {
+                let Some(hit) = hit_from_outside(&scene, center, radius, &mut rng) else {
+                    continue;
+                };
+                let mut out = uniform_sphere(rng.next_2d());
+                if out.dot(hit.ng) < 0.0 {
+                    out = -out;
+                }
+                let leaving = Ray::new(hit.offset_origin(out), out);
+                assert!(
+                    scene.intersect(&leaving, f32::INFINITY).is_none(),
+                    "{shape} at {center}: a ray leaving outward hit the surface"
+                );
+                let inward = -out;
+                let entering = Ray::new(hit.offset_origin(inward), inward);
+                let far = scene
+                    .intersect(&entering, f32::INFINITY)
+                    .unwrap_or_else(|| panic!("{shape} at {center}: escaped inward"));
+                let cos = out.dot(hit.ng);
+                if shape == "sphere" && cos > 0.2 {
+                    // Within rounding: a share of the radius and about 80 ulps of the place.
+                    let chord = 2.0 * radius * cos;
+                    let rounding = 1e-4 * radius + 1e-5 * center.abs().max_element();
+                    assert!(
+                        (far.t - chord).abs() < rounding,
+                        "{shape} at {center}: t {} against the chord {chord}",
+                        far.t
+                    );
+                }
+                assert!(
+                    far.t > 1e-3 * radius * cos,
+                    "{shape}: found its own surface"
+                );
+                checked += 1;
+            }
+            assert!(checked > 4_000, "{shape} at {center}: {checked} hits");
         }
-        let leaving = Ray::new(photon::math::offset_origin(p, n, out), out);
-        assert!(
-            scene.intersect(&leaving, f32::INFINITY).is_none(),
-            "self-hit leaving"
-        );
-        let inward = -out;
-        let entering = Ray::new(photon::math::offset_origin(p, n, inward), inward);
+    }
+}
+
+#[test]
+fn rays_from_a_plane_through_the_origin_do_not_find_it_again() {
+    // A floor at y = 0 has no rounding across its plane, so rays leave it from points exactly
+    // on it (the offset is zero): only the triangle test's own bound on its rounding (pbrt-v4's
+    // δt) keeps them from hitting the floor, or its other triangle, at a tiny distance.
+    let mut b = builder("floor");
+    b.ray_engine(RayEngine::Bvh);
+    let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+    let corners = [
+        Vec3::new(-3.7, 0.0, -2.9),
+        Vec3::new(5.3, 0.0, -2.9),
+        Vec3::new(5.3, 0.0, 6.1),
+        Vec3::new(-3.7, 0.0, 6.1),
+    ];
+    b.mesh(
+        &corners,
+        &[[0, 2, 1], [0, 3, 2]],
+        glam::Affine3A::IDENTITY,
+        m,
+        None,
+    )
+    .expect("mesh");
+    let scene = b.build().expect("valid");
+    let mut rng = Rng::keyed(21, &[]);
+    for i in 0..20_000 {
+        let from = Vec3::new(rng.next_f32() * 4.0, 2.0, rng.next_f32() * 4.0);
+        let to = Vec3::new(rng.next_f32() * 4.0, 0.0, rng.next_f32() * 4.0);
         let hit = scene
-            .intersect(&entering, f32::INFINITY)
-            .expect("must hit the far side");
-        let chord = 2.0 * radius * out.dot(n);
-        let eps = photon::math::surface_epsilon(p);
-        // Near grazing, the inward offset changes the chord a lot; compare lengths elsewhere.
-        assert!(
-            out.dot(n) < 0.2 || (hit.t - chord).abs() < 3.0 * eps / out.dot(n),
-            "t {} vs chord {chord}",
-            hit.t
+            .intersect(&Ray::new(from, (to - from).normalize()), f32::INFINITY)
+            .expect("hits the floor");
+        assert_eq!(
+            hit.error.y, 0.0,
+            "a point of the plane y = 0 is exact across it"
         );
+        let mut w = uniform_sphere(rng.next_2d());
+        w.y = w.y.abs() * 1e-3_f32.powf(rng.next_f32());
+        let w = w.normalize();
+        for dir in [w, -w] {
+            let ray = Ray::new(hit.offset_origin(dir), dir);
+            assert!(
+                scene.intersect(&ray, f32::INFINITY).is_none(),
+                "ray {i} along {dir} found the floor it left"
+            );
+        }
     }
 }
 

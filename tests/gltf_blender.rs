@@ -324,7 +324,7 @@ fn blender_volume_absorption_attenuates_paths_inside_the_glass() {
     };
     assert!((entering.ior - 1.45).abs() < 1e-6);
     assert_eq!(entering.segment, Rgb::ONE, "nothing is absorbed outside");
-    let inside = Ray::new(photon::math::offset_origin(top.p, top.ng, down), down);
+    let inside = Ray::new(top.offset_origin(down), down);
     let bottom = scene
         .intersect(&inside, f32::INFINITY)
         .expect("hits the far side");

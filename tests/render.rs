@@ -179,20 +179,26 @@ fn cornell_path_tracer_full_resolution_1024spp() {
     }
 }
 
-// A scene renders the same whatever unit it was modelled in: the built-in Cornell box (0.56
-// units wide) against the same box at 2⁻¹⁰ of its size, as a half-metre box would be in a
-// scene modelled in kilometres. A power of two scales every coordinate and distance exactly,
-// so the two renders follow nearly the same paths, and their images may differ only where
-// something measured in absolute units (a surface offset) decides.
+// A scene renders the same whatever unit it was modelled in and wherever it sits: the built-in
+// Cornell box (0.56 units wide) against the same box at 2⁻²⁰ of its size (half a micrometre,
+// as a half-metre box would be in a scene modelled in thousands of kilometres), and moved 4096
+// units from the origin, where f32 spaces coordinates 0.5 thousandths apart. A power of two scales every coordinate and distance exactly, so the
+// small box follows the same paths, and its image may differ only where something measured
+// in absolute units decides; the moved box rounds differently, so it follows nearly the same
+// paths.
 //
 // The BVH's node test once skipped every box a ray left within 10⁻⁴ scene units of its
-// origin: this box at 2⁻¹⁰ rendered 11% dark in `path` and 10% in `sppm`.
+// origin: the box at 2⁻¹⁰ rendered 11% dark in `path` and 10% in `sppm`. Ray offsets were once
+// 2·10⁻⁵ (|p| + 10⁻²) units: the box at 2⁻²⁰ rendered 26% dark in `path`, and moved 4096
+// units out 11% dark in `path` and 4% in `sppm` (now within the noise of paths that round
+// differently, under 1%).
 
 /// The keys of the scene file that hold lengths or positions.
 const LENGTHS: [&str; 5] = ["vertices", "center", "radius", "position", "look_at"];
 
-/// Every number on the lines of `text` that give lengths or positions, times `scale`.
-fn scaled_numbers(text: &str, scale: f64) -> String {
+/// Every number on the lines of `text` that give lengths or positions, times `scale`, plus
+/// `shift` for positions.
+fn scaled_numbers(text: &str, scale: f64, shift: f64) -> String {
     let mut out = String::new();
     for line in text.lines() {
         let is_length = LENGTHS
@@ -204,6 +210,7 @@ fn scaled_numbers(text: &str, scale: f64) -> String {
             continue;
         }
         let (key, value) = line.split_once('=').expect("a key = value line");
+        let shift = if key.trim() == "radius" { 0.0 } else { shift };
         out.push_str(key);
         out.push('=');
         let mut number = String::new();
@@ -214,7 +221,7 @@ fn scaled_numbers(text: &str, scale: f64) -> String {
             }
             if !number.is_empty() {
                 let x: f64 = number.parse().expect("a number");
-                out.push_str(&format!("{:?}", x * scale));
+                out.push_str(&format!("{:?}", x * scale + shift));
                 number.clear();
             }
             out.push(c);
@@ -224,10 +231,10 @@ fn scaled_numbers(text: &str, scale: f64) -> String {
     out
 }
 
-fn cornell(scale: f64) -> Scene {
+fn cornell(scale: f64, shift: f64) -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell.toml");
     let text = std::fs::read_to_string(&path).expect("scenes/cornell.toml");
-    let text = scaled_numbers(&text, scale).replace("[512, 512]", "[32, 32]");
+    let text = scaled_numbers(&text, scale, shift).replace("[512, 512]", "[32, 32]");
     let desc = toml_read::read_str(&text, &path, path.parent().expect("folder")).expect("reads");
     build(&desc).expect("builds")
 }
@@ -266,19 +273,23 @@ fn sppm_mean(scene: &Scene) -> Rgb {
 }
 
 #[test]
-fn the_cornell_box_renders_the_same_at_a_thousandth_of_its_size() {
-    let unit = cornell(1.0);
-    let small = cornell(2f64.powi(-10));
-    for (name, mean) in [
-        ("path", path_mean as fn(&Scene) -> Rgb),
-        ("sppm", sppm_mean),
+fn the_cornell_box_renders_the_same_at_a_millionth_of_its_size_and_far_out() {
+    let unit = cornell(1.0, 0.0);
+    for (place, scene, bound) in [
+        ("at 2⁻²⁰ of its size", cornell(2f64.powi(-20), 0.0), 0.001),
+        ("4096 units out", cornell(1.0, 4096.0), 0.02),
     ] {
-        let (want, got) = (mean(&unit), mean(&small));
-        let ratio = got / want;
-        eprintln!("{name}: {got} at 2⁻¹⁰ of the size, {want} at its own: {ratio}");
-        assert!(
-            (ratio - 1.0).abs().max_element() < 0.01,
-            "{name}: the small box renders {ratio} of the unit one"
-        );
+        for (name, mean) in [
+            ("path", path_mean as fn(&Scene) -> Rgb),
+            ("sppm", sppm_mean),
+        ] {
+            let (want, got) = (mean(&unit), mean(&scene));
+            let ratio = got / want;
+            eprintln!("{name}: {got} {place}, {want} at its own: {ratio}");
+            assert!(
+                (ratio - 1.0).abs().max_element() < bound,
+                "{name}: the box {place} renders {ratio} of the unit one"
+            );
+        }
     }
 }

@@ -10,7 +10,7 @@ use common::media::scene;
 use photon::film::Image;
 use photon::integrator::{Integrator, PathConfig, RayStats};
 use photon::material::{Dispersion, TransportMode};
-use photon::math::{Ray, Rgb, Vec3, offset_origin};
+use photon::math::{Ray, Rgb, Vec3};
 use photon::render_job::RenderJob;
 use photon::sampling::Rng;
 use photon::scene::Scene;
@@ -200,7 +200,7 @@ fn a_prism_bends_each_wavelength_as_snell_and_sellmeier_say() {
             let wi = frame.to_world(s.wi);
             assert!(wi.dot(hit.ng) * wo.dot(hit.ng) < 0.0, "went through");
             refractions += 1;
-            ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+            ray = Ray::new(hit.offset_origin(wi), wi);
         }
         assert_eq!(refractions, 2);
         assert!(

@@ -8,7 +8,7 @@ use crate::camera::{Camera, CameraDesc};
 use crate::description::builtin;
 use crate::error::Result;
 use crate::material::{Lambertian, Material};
-use crate::math::{Frame, Ray, Rgb, Vec2, Vec3, offset_origin};
+use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
 use crate::photon::grid::{PhotonGrid, QueryScratch};
 use crate::photon::{MapKind, PhotonConfig, PhotonMap, trace_photons};
 use crate::sampling::{Rng, cosine_hemisphere};
@@ -190,7 +190,7 @@ pub fn rays_on(n_theta: u32, n_phi: u32, engine: RayEngine) -> Result<RayRates> 
             let facing = h.ng.dot(CAMERA_POSITION - h.p) >= 0.0;
             let n = if facing { h.ng } else { -h.ng };
             let d = Frame::from_normal(n).to_world(cosine_hemisphere(rng.next_2d()));
-            Ray::new(offset_origin(h.p, h.ng, d), d)
+            Ray::new(h.offset_origin(d), d)
         })
         .collect();
     let closest = |rays: &[Ray], threads: usize| {

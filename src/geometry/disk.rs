@@ -1,5 +1,5 @@
 use super::{Bounds, ShapeHit, SurfacePoint};
-use crate::math::{Frame, Ray, Vec2, Vec3};
+use crate::math::{Frame, Ray, Vec2, Vec3, gamma};
 use crate::sampling::uniform_disk_polar;
 use std::f32::consts::PI;
 
@@ -39,9 +39,15 @@ impl Disk {
     }
 
     pub fn surface(&self, p: Vec3) -> SurfacePoint {
-        // Project onto the plane to remove the error along the normal.
-        let p = p - (p - self.center).dot(self.normal) * self.normal;
-        SurfacePoint { p, n: self.normal }
+        // Projected onto the plane: the error along the normal is then the rounding of the
+        // projection (a difference, a dot product, a product and a difference: γ₇ of the
+        // terms), not the hit distance's.
+        let projected = p - (p - self.center).dot(self.normal) * self.normal;
+        SurfacePoint {
+            p: projected,
+            n: self.normal,
+            error: gamma(7) * (p.abs() + self.center.abs()),
+        }
     }
 
     pub fn area(&self) -> f32 {
@@ -54,6 +60,9 @@ impl Disk {
         SurfacePoint {
             p: self.center + f.s * d.x + f.t * d.y,
             n: self.normal,
+            // The frame is orthogonal to the normal within a few roundings, each scaled by
+            // at most the radius; the products and sums round once each.
+            error: gamma(7) * (self.center.abs() + Vec3::splat(self.radius)),
         }
     }
 }

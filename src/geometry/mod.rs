@@ -72,6 +72,9 @@ pub struct SurfacePoint {
     pub p: Vec3,
     /// Geometric normal: the shape's outward (or front-face) normal, unit length.
     pub n: Vec3,
+    /// A bound on each coordinate's distance from the true surface, for the origins of rays
+    /// leaving it ([`crate::math::offset_origin`]).
+    pub error: Vec3,
 }
 
 /// The closed set of shapes (pbrt-v4 style: an enum with exhaustive matches).

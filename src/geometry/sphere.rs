@@ -1,5 +1,5 @@
 use super::{Bounds, ShapeHit, SurfacePoint};
-use crate::math::{Ray, Vec2, Vec3};
+use crate::math::{Ray, Vec2, Vec3, gamma};
 use crate::sampling::uniform_sphere;
 use std::f32::consts::PI;
 
@@ -50,11 +50,21 @@ impl Sphere {
     }
 
     pub fn surface(&self, p: Vec3) -> SurfacePoint {
-        let n = (p - self.center).normalize();
-        // Re-project onto the sphere so the point carries no error along the normal.
+        // Re-projected onto the sphere: the error along the normal is then the rounding of
+        // this expression, not the hit distance's.
+        self.point_toward((p - self.center).normalize())
+    }
+
+    /// The point c + r·n for a computed unit `n`, with the bound of its distance from the
+    /// sphere: n's length is 1 within a few roundings, and the product and the sum round
+    /// once each; γ₈ of the terms covers them (pbrt-v4 §6.8.5 bounds re-projected points the
+    /// same way).
+    fn point_toward(&self, n: Vec3) -> SurfacePoint {
+        let radial = self.radius * n;
         SurfacePoint {
-            p: self.center + self.radius * n,
+            p: self.center + radial,
             n,
+            error: gamma(8) * (self.center.abs() + radial.abs()),
         }
     }
 
@@ -63,10 +73,6 @@ impl Sphere {
     }
 
     pub fn sample_area(&self, u: Vec2) -> SurfacePoint {
-        let n = uniform_sphere(u);
-        SurfacePoint {
-            p: self.center + self.radius * n,
-            n,
-        }
+        self.point_toward(uniform_sphere(u))
     }
 }

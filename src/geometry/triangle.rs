@@ -1,5 +1,5 @@
 use super::{Bounds, ShapeHit, SurfacePoint};
-use crate::math::{Ray, Vec2, Vec3};
+use crate::math::{Ray, Vec2, Vec3, gamma};
 use crate::sampling::uniform_triangle;
 use glam::{Vec3A, Vec3Swizzles};
 
@@ -71,10 +71,20 @@ impl Triangle {
     }
 
     pub fn surface(&self, hit: &ShapeHit) -> SurfacePoint {
+        // From barycentrics rather than the ray: the point then lies on the triangle's plane.
+        self.point_at(hit.uv.x, hit.uv.y)
+    }
+
+    /// The point p0 + b1 (p1 − p0) + b2 (p2 − p0), with the bound of its rounding: the exact
+    /// value for any b1, b2 lies on the triangle's plane, and the two differences, two products
+    /// and two sums round each coordinate by at most γ₇ of the terms' magnitudes (pbrt-v4
+    /// §6.8.5 bounds the same interpolation).
+    fn point_at(&self, b1: f32, b2: f32) -> SurfacePoint {
+        let (a, b) = (b1 * self.e1(), b2 * self.e2());
         SurfacePoint {
-            // From barycentrics rather than the ray: the point then lies on the triangle's plane.
-            p: self.p0 + hit.uv.x * self.e1() + hit.uv.y * self.e2(),
+            p: self.p0 + a + b,
             n: self.normal(),
+            error: gamma(7) * (self.p0.abs() + a.abs() + b.abs()),
         }
     }
 
@@ -87,10 +97,7 @@ impl Triangle {
 
     pub fn sample_area(&self, u: Vec2) -> SurfacePoint {
         let b = uniform_triangle(u);
-        SurfacePoint {
-            p: self.p0 + b.y * self.e1() + b.z * self.e2(),
-            n: self.normal(),
-        }
+        self.point_at(b.y, b.z)
     }
 }
 
@@ -186,8 +193,28 @@ pub fn watertight_hit(
     let t_scaled = (e.x * z.x + e.y * z.y + e.z * z.z) * ray.inv_dz;
     let inv_det = 1.0 / det;
     let t = t_scaled * inv_det;
-    (t > t_min && t < t_max).then(|| ShapeHit {
-        t,
-        uv: Vec2::new(e.y * inv_det, e.z * inv_det),
-    })
+    (t > t_min && t < t_max && t > rounding_of_t(&x, &y, &(z * ray.inv_dz), &e, inv_det)).then(
+        || ShapeHit {
+            t,
+            uv: Vec2::new(e.y * inv_det, e.z * inv_det),
+        },
+    )
+}
+
+/// A bound on the rounding error of the distance [`watertight_hit`] computes, from the
+/// sheared vertices `x`, `y`, the scaled depths `z` and the edge functions `e` (pbrt-v4
+/// §6.8.4, "Robust Triangle Intersections"). A hit closer than this may lie behind the
+/// origin: a ray leaving a surface by [`crate::math::offset_origin`] would otherwise find the
+/// surface it left.
+#[inline]
+fn rounding_of_t(x: &Vec3A, y: &Vec3A, z: &Vec3A, e: &Vec3A, inv_det: f32) -> f32 {
+    let max_x = x.abs().max_element();
+    let max_y = y.abs().max_element();
+    let max_z = z.abs().max_element();
+    let delta_z = gamma(3) * max_z;
+    let delta_x = gamma(5) * (max_x + max_z);
+    let delta_y = gamma(5) * (max_y + max_z);
+    let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    let max_e = e.abs().max_element();
+    3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
 }

@@ -6,7 +6,7 @@ use super::delta::smooth_branches;
 use super::lighting::{MediumPoint, direct_light, direct_light_in_medium};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::Part;
-use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::math::{Ray, Rgb, Vec3};
 use crate::medium::{MediumId, spectral_mis};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Interaction, Scene};
@@ -180,7 +180,7 @@ fn specular(
             continue;
         }
         let wi = sp.frame.to_world(b.wi);
-        let next = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
+        let next = Ray::new(sp.hit.offset_origin(wi), wi);
         walk.stats.bounce += 1;
         let branch = Branch {
             depth: at.depth + 1,

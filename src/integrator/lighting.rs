@@ -6,7 +6,7 @@
 use super::{RayStats, ShadingPoint};
 use crate::light::LightSample;
 use crate::material::{Part, TransportMode};
-use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::math::{Ray, Rgb, Vec3, offset_origin, segment_reach};
 use crate::medium::MediumId;
 use crate::sampling::{Rng, Sampler};
 use crate::scene::{Hit, NO_LIGHT, Scene};
@@ -62,17 +62,19 @@ pub(crate) fn shadowed(
 /// irradiance).
 fn visibility(scene: &Scene, sp: &ShadingPoint, ls: &LightSample, rng: &mut impl Sampler) -> Rgb {
     let hit = sp.hit;
-    let origin = offset_origin(hit.p, hit.ng, ls.wi);
+    let origin = hit.offset_origin(ls.wi);
     if scene.has_media() {
         let medium = scene.medium_after(hit, sp.medium, ls.wi);
         return scene.transmittance(origin, light_end(ls, origin), medium, &sp.lambda, rng);
     }
     let free = if ls.is_delta {
-        !scene.occluded(origin, ls.wi, (ls.point - origin).length())
+        let dist = (ls.point - origin).length();
+        !scene.occluded(origin, ls.wi, segment_reach(origin, ls.point, dist))
     } else {
-        let d = light_end(ls, origin) - origin;
+        let end = light_end(ls, origin);
+        let d = end - origin;
         let dist = d.length();
-        dist > 0.0 && !scene.occluded(origin, d / dist, dist)
+        dist > 0.0 && !scene.occluded(origin, d / dist, segment_reach(origin, end, dist))
     };
     if free { Rgb::ONE } else { Rgb::ZERO }
 }
@@ -83,7 +85,7 @@ fn light_end(ls: &LightSample, origin: Vec3) -> Vec3 {
     if ls.is_delta {
         ls.point
     } else {
-        offset_origin(ls.point, ls.normal, origin - ls.point)
+        offset_origin(ls.point, ls.error, ls.normal, origin - ls.point)
     }
 }
 
@@ -290,7 +292,7 @@ fn emission_by_rough_bsdf(
     };
     let wi = sp.frame.to_world(s.wi);
     stats.shadow += 1;
-    let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
+    let ray = Ray::new(sp.hit.offset_origin(wi), wi);
     let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
         return match scene.environment() {
             Some((_, sky)) => {

@@ -6,7 +6,7 @@ use super::lighting::{
 };
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::TransportMode;
-use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::math::{Ray, Rgb, Vec3};
 use crate::medium::spectral_mis;
 use crate::sampling::Rng;
 use crate::scene::{Interaction, NO_LIGHT, Scene};
@@ -136,7 +136,7 @@ pub(super) fn radiance(
         prev_specular = s.is_specular();
         prev_point = hit.p;
         medium = scene.medium_after(&hit, reached_through, wi);
-        ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+        ray = Ray::new(hit.offset_origin(wi), wi);
     }
     out.beauty = l;
     out

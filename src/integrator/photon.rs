@@ -24,7 +24,7 @@ use super::delta::{smooth_branches, stop_probability};
 use super::lighting::{direct_light, emission_weight, escaped_radiance};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::{Part, TransportMode};
-use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
+use crate::math::{Frame, Ray, Rgb, Vec3};
 use crate::medium::MediumId;
 use crate::photon::IrradianceCache;
 use crate::photon::beam::VolumePhotonMap;
@@ -360,7 +360,7 @@ impl PhotonIntegrator {
                 weight /= survive;
             }
             let wi = sp.frame.to_world(b.wi);
-            let next = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
+            let next = Ray::new(sp.hit.offset_origin(wi), wi);
             stats.bounce += 1;
             let s = self.trace(
                 scene,
@@ -434,7 +434,7 @@ impl PhotonIntegrator {
             if !(weight.max_element() > 0.0 && weight.is_finite()) {
                 return;
             }
-            let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
+            let ray = Ray::new(sp.hit.offset_origin(wi), wi);
             let medium = scene.medium_after(sp.hit, sp.medium, wi);
             let gathered = self.gathered_radiance(scene, &ray, medium, rng, stats);
             sum += weight * sp.lambda.illuminant(gathered);

@@ -7,7 +7,7 @@ use super::lighting::{
 };
 use super::{RayStats, ShadingPoint};
 use crate::material::{Material, Part, TransportMode};
-use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
+use crate::math::{Frame, Ray, Rgb, Vec3};
 use crate::medium::{MediumId, spectral_mis};
 use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene};
@@ -207,7 +207,7 @@ pub fn trace_camera_path<S: Sampler>(
         arrival = (!s.is_specular()).then_some((hit.p, go_on * s.pdf));
         let wi = sp.frame.to_world(s.wi);
         medium = scene.medium_after(&hit, reached_through, wi);
-        ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+        ray = Ray::new(hit.offset_origin(wi), wi);
         stats.bounce += 1;
     }
     out
@@ -292,7 +292,7 @@ fn branch_emission(
     }
     let scene = walk.scene;
     let wi = sp.frame.to_world(wi_local);
-    let ray = Ray::new(offset_origin(sp.hit.p, sp.hit.ng, wi), wi);
+    let ray = Ray::new(sp.hit.offset_origin(wi), wi);
     walk.stats.bounce += 1;
     let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
         return weight * scene.escaped(wi, &sp.lambda);

@@ -197,6 +197,7 @@ impl AreaLight {
             origin: s.p,
             dir: Frame::from_normal(normal).to_world(local),
             normal: s.n,
+            error: s.error,
             flux: self.radiance_times(self.factor(i, s.p), lambda)
                 * (std::f32::consts::PI * self.area * sides),
         })
@@ -241,6 +242,7 @@ impl AreaLight {
             pdf,
             point: s.p,
             normal: s.n,
+            error: s.error,
             is_delta: false,
         })
     }

@@ -36,6 +36,7 @@ impl DirectionalLight {
             origin,
             dir: self.direction,
             normal: Vec3::ZERO,
+            error: Vec3::ZERO,
             flux: lambda.spectrum(&self.irradiance) / density,
         })
     }
@@ -49,6 +50,7 @@ impl DirectionalLight {
             pdf: 1.0,
             point: p + wi * (2.0 * self.aperture.radius + (p - self.aperture.center).length()),
             normal: Vec3::ZERO,
+            error: Vec3::ZERO,
             is_delta: true,
         })
     }

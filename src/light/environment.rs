@@ -193,6 +193,7 @@ impl EnvironmentLight {
             pdf,
             point: p + wi * far.max(1.0),
             normal: Vec3::ZERO,
+            error: Vec3::ZERO,
             is_delta: false,
         })
     }
@@ -212,6 +213,7 @@ impl EnvironmentLight {
             origin,
             dir: -toward_sky,
             normal: Vec3::ZERO,
+            error: Vec3::ZERO,
             flux: self.radiance(toward_sky, lambda) / (pdf * density),
         })
     }

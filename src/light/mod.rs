@@ -33,6 +33,9 @@ pub struct LightSample {
     pub point: Vec3,
     /// Normal at the sampled point (zero for point and spot lights).
     pub normal: Vec3,
+    /// A bound on each coordinate of `point`'s distance from the light's surface (zero where
+    /// it has none).
+    pub error: Vec3,
     pub is_delta: bool,
 }
 
@@ -44,6 +47,9 @@ pub struct PhotonEmission {
     pub dir: Vec3,
     /// Surface normal at the origin (zero for point and spot lights), for the ray offset.
     pub normal: Vec3,
+    /// A bound on each coordinate of `origin`'s distance from the light's surface (zero where
+    /// it has none), for the ray offset.
+    pub error: Vec3,
     /// Flux of this one emitted photon: emitted radiance or intensity divided by the density of
     /// choosing this origin and direction.
     pub flux: Rgb,

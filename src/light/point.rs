@@ -23,6 +23,7 @@ impl PointLight {
             origin: self.position,
             dir: uniform_sphere(u),
             normal: Vec3::ZERO,
+            error: Vec3::ZERO,
             flux: lambda.spectrum(&self.intensity) / UNIFORM_SPHERE_PDF,
         }
     }
@@ -39,6 +40,7 @@ impl PointLight {
             pdf: 1.0,
             point: self.position,
             normal: Vec3::ZERO,
+            error: Vec3::ZERO,
             is_delta: true,
         })
     }

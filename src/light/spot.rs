@@ -73,6 +73,7 @@ impl SpotLight {
             origin: self.position,
             dir,
             normal: Vec3::ZERO,
+            error: Vec3::ZERO,
             flux: lambda.spectrum(&self.intensity) * (k / uniform_cone_pdf(self.cos_cutoff)),
         })
     }
@@ -101,6 +102,7 @@ impl SpotLight {
             pdf: 1.0,
             point: self.position,
             normal: Vec3::ZERO,
+            error: Vec3::ZERO,
             is_delta: true,
         })
     }

@@ -9,7 +9,7 @@ use super::hot::{HOT_FACTOR, HotCluster, HotSampler, clusters};
 use super::kdtree::{KdIndex, KdPoint};
 use super::map::PhotonMap;
 use super::record::{decode_octahedral, encode_octahedral};
-use crate::math::{Rgb, Vec3, luminance, surface_epsilon};
+use crate::math::{Rgb, Vec3, luminance, plane_tolerance};
 use rayon::prelude::*;
 
 /// Whether a photon is one of the irradiance cache's sites for `stride`: about one photon in
@@ -187,7 +187,7 @@ impl IrradianceCache {
     }
 
     fn nearest(&self, p: Vec3, n: Vec3, max_radius: f32) -> Option<&CachePoint> {
-        let tolerance = surface_epsilon(p);
+        let tolerance = plane_tolerance(p);
         let metric = |_, c: &CachePoint, d2: f32| {
             disc_distance2(
                 c.position - p,

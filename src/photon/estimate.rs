@@ -10,7 +10,7 @@
 
 use super::map::PhotonMap;
 use crate::material::{Material, Part, TransportMode};
-use crate::math::{Frame, Rgb, Vec3, surface_epsilon};
+use crate::math::{Frame, Rgb, Vec3, plane_tolerance};
 use std::f32::consts::PI;
 
 /// Density-estimation kernels, each normalised to integrate to 1 over its disc.
@@ -179,7 +179,7 @@ pub(super) fn gather(
 ) {
     let photons = map.photons();
     let max_r2 = g.max_radius * g.max_radius;
-    let tolerance = surface_epsilon(p);
+    let tolerance = plane_tolerance(p);
     if g.k == 0 {
         map.for_each_within(p, g.max_radius, &mut |i, d2| {
             let ph = &photons[i];

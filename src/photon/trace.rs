@@ -436,7 +436,7 @@ fn trace_path(
     let origin = if e.normal == Rgb::ZERO {
         e.origin
     } else {
-        offset_origin(e.origin, e.normal, e.dir)
+        offset_origin(e.origin, e.error, e.normal, e.dir)
     };
     let mut ray = Ray::new(origin, e.dir);
     let mut specular_only = true;
@@ -540,7 +540,7 @@ fn trace_path(
         smooth_last = material.is_smooth_lobe(s.lobe);
         specular_only &= smooth_last;
         medium = scene.medium_after(&hit, reached_through, wi);
-        ray = Ray::new(offset_origin(hit.p, hit.ng, wi), wi);
+        ray = Ray::new(hit.offset_origin(wi), wi);
     }
 }
 

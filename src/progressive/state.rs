@@ -5,7 +5,7 @@ use crate::film::{Image, PixelFilter};
 use crate::integrator::vcm::VcmMode;
 use crate::integrator::{RayStats, VisiblePoint, VolumePoint, trace_camera_path};
 use crate::material::{Part, TransportMode};
-use crate::math::{Rgb, Vec2, surface_epsilon};
+use crate::math::{Rgb, Vec2, plane_tolerance};
 use crate::photon::estimate::{EXACT_NORMAL_ERROR, disc_distance2};
 use crate::photon::grid::{PhotonGrid, QueryScratch};
 use crate::photon::{PassPhoton, VolumePhoton, trace_indirect_photons};
@@ -670,7 +670,7 @@ fn photon_flux(
 ) -> (Rgb, u32) {
     let mut sum = Rgb::ZERO;
     let mut count = 0;
-    let tolerance = surface_epsilon(vp.p);
+    let tolerance = plane_tolerance(vp.p);
     grid.for_each_within(vp.p, r2.sqrt(), scratch, &mut |ph, d2| {
         if let Some(m) = disc_distance2(
             ph.position - vp.p,

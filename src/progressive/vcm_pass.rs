@@ -45,7 +45,7 @@ pub(super) fn run(
     let r0 = c
         .initial_radius
         .unwrap_or_else(|| automatic_radius(scene, &camera));
-    let radius = (r0 * ppm_radius_scale(pass, c.alpha)).max(1e-7);
+    let radius = (r0 * ppm_radius_scale(pass, c.alpha)).max(f32::MIN_POSITIVE);
     let hero = hero_channel(scene, c.seed, pass);
     let ctx = PassContext::new(scene, &camera, mode, c.max_depth, lambda, radius, hero);
     let stopped = || cancel.load(Ordering::Relaxed);

@@ -9,7 +9,7 @@
 //! other surface leaves it where it was (pbrt-v4's rule, also Mitsuba 3's `volpath`).
 
 use super::Scene;
-use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::math::{Ray, Rgb, Vec3, offset_origin, segment_reach};
 use crate::medium::{Boundary, Medium, MediumId};
 use crate::sampling::Sampler;
 use crate::spectrum::Lambda;
@@ -101,7 +101,7 @@ impl Scene {
                     b.outside
                 };
             }
-            origin = offset_origin(hit.p, hit.ng, dir);
+            origin = hit.offset_origin(dir);
         }
         self.atmosphere
     }
@@ -118,7 +118,7 @@ impl Scene {
                 crate::light::Light::Spot(l) => self.medium_at(l.position),
                 crate::light::Light::Area(l) => {
                     let s = l.shapes[0].sample_area(crate::math::Vec2::splat(0.5));
-                    self.medium_at(offset_origin(s.p, s.n, s.n))
+                    self.medium_at(offset_origin(s.p, s.error, s.n, s.n))
                 }
                 crate::light::Light::Directional(_) | crate::light::Light::Environment(_) => {
                     self.atmosphere
@@ -227,7 +227,7 @@ impl Scene {
                 };
             }
             medium = self.medium_after(&hit, medium, ray.dir);
-            ray = Ray::new(offset_origin(hit.p, hit.ng, ray.dir), ray.dir);
+            ray = Ray::new(hit.offset_origin(ray.dir), ray.dir);
         }
         Step {
             interaction: Interaction::Escaped,
@@ -258,7 +258,7 @@ impl Scene {
                 return tr;
             }
             let ray = Ray::new(from, d / dist);
-            let hit = self.intersect(&ray, dist);
+            let hit = self.intersect(&ray, segment_reach(from, target, dist));
             let travelled = hit.map_or(dist, |h| h.t);
             if let Some(id) = medium {
                 tr *= self
@@ -270,7 +270,7 @@ impl Scene {
                 None => return tr,
                 Some(h) if self.is_invisible(&h) => {
                     medium = self.medium_after(&h, medium, ray.dir);
-                    from = offset_origin(h.p, h.ng, ray.dir);
+                    from = h.offset_origin(ray.dir);
                 }
                 Some(_) => return Rgb::ZERO,
             }

@@ -78,6 +78,8 @@ pub struct Hit {
     pub p: Vec3,
     /// Geometric normal of the primitive as modelled (outward for spheres, winding for triangles).
     pub ng: Vec3,
+    /// A bound on each coordinate of `p`'s distance from the true surface.
+    pub error: Vec3,
     /// Shading normal: interpolated vertex normals on smooth meshes, else `ng`; always on the
     /// same side as `ng`.
     pub ns: Vec3,
@@ -92,6 +94,13 @@ pub struct Hit {
 }
 
 impl Hit {
+    /// Origin for a ray leaving the hit in direction `w`: off the surface to `w`'s side, past
+    /// the hit point's error ([`crate::math::offset_origin`]).
+    #[inline]
+    pub fn offset_origin(&self, w: Vec3) -> Vec3 {
+        crate::math::offset_origin(self.p, self.error, self.ng, w)
+    }
+
     /// The geometric normal on the side of `w`: which surface, and which of its faces, a
     /// point is on (photon estimates compare these; shading normals bend across a mesh).
     pub fn ng_facing(&self, w: Vec3) -> Vec3 {
@@ -193,6 +202,7 @@ impl Scene {
             t: shape_hit.t,
             p: surface.p,
             ng: surface.n,
+            error: surface.error,
             ns,
             barycentrics: shape_hit.uv,
             prim,

@@ -4,7 +4,7 @@
 
 use super::PhotonIntegrator;
 use crate::integrator::RayStats;
-use crate::math::{Ray, Rgb, offset_origin};
+use crate::math::{Ray, Rgb};
 use crate::medium::{MediumAt, MediumId, TransmittanceProfile};
 use crate::photon::Kernel;
 use crate::photon::beam::VolumePhotonMap;
@@ -60,7 +60,7 @@ impl PhotonIntegrator {
             match passage.hit {
                 Some(h) if scene.is_invisible(&h) => {
                     medium = scene.medium_after(&h, medium, ray.dir);
-                    ray = Ray::new(offset_origin(h.p, h.ng, ray.dir), ray.dir);
+                    ray = Ray::new(h.offset_origin(ray.dir), ray.dir);
                     stats.bounce += 1;
                     passage.hit = scene.intersect(&ray, f32::INFINITY);
                     passage.medium = medium;

@@ -285,7 +285,7 @@ fn light_transmittance(
     let end = if ls.is_delta || light.is_at_infinity() {
         ls.point
     } else {
-        offset_origin(ls.point, ls.normal, origin - ls.point)
+        offset_origin(ls.point, ls.error, ls.normal, origin - ls.point)
     };
     site::transmittance_to(ctx.scene, origin, medium, end, &ctx.lambda, rng)
 }

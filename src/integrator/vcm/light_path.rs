@@ -113,7 +113,7 @@ fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
     let origin = if e.normal == Vec3::ZERO {
         e.origin
     } else {
-        offset_origin(e.origin, e.normal, e.dir)
+        offset_origin(e.origin, e.error, e.normal, e.dir)
     };
     let mut ray = Ray::new(origin, e.dir);
     let mut medium = scene.light_medium(index);

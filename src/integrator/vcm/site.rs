@@ -4,7 +4,7 @@
 //! [`Site`]; only the measure of a vertex differs: area on a surface, volume in a medium.
 
 use crate::material::{Material, TransportMode};
-use crate::math::{Frame, Ray, Rgb, Vec3, offset_origin};
+use crate::math::{Frame, Ray, Rgb, Vec3, segment_reach};
 use crate::medium::{HenyeyGreenstein, MediumId};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Scene};
@@ -30,10 +30,9 @@ impl Site {
     /// The start of a ray leaving toward `w`, and the medium it runs in.
     pub fn leave(&self, scene: &Scene, w: Vec3) -> (Vec3, Option<MediumId>) {
         match self {
-            Site::Surface { hit, medium } => (
-                offset_origin(hit.p, hit.ng, w),
-                scene.medium_after(hit, *medium, w),
-            ),
+            Site::Surface { hit, medium } => {
+                (hit.offset_origin(w), scene.medium_after(hit, *medium, w))
+            }
             Site::Medium { p, medium } => (*p, Some(*medium)),
         }
     }
@@ -42,7 +41,7 @@ impl Site {
     /// toward where the ray comes from.
     pub fn reached_along(&self, w: Vec3) -> Vec3 {
         match self {
-            Site::Surface { hit, .. } => offset_origin(hit.p, hit.ng, -w),
+            Site::Surface { hit, .. } => hit.offset_origin(-w),
             Site::Medium { p, .. } => *p,
         }
     }
@@ -82,7 +81,7 @@ pub(super) fn transmittance_to(
     }
     let d = target - origin;
     let dist = d.length();
-    if dist > 0.0 && !scene.occluded(origin, d / dist, dist) {
+    if dist > 0.0 && !scene.occluded(origin, d / dist, segment_reach(origin, target, dist)) {
         Rgb::ONE
     } else {
         Rgb::ZERO
