@@ -70,15 +70,16 @@ pub const fn gamma(n: u32) -> f32 {
 
 /// Origin for a ray leaving the surface point `p` (each coordinate within `error` of the true
 /// surface, geometric normal `ng`) in direction `dir`: moved along the normal, to the side
-/// `dir` goes to, past the box of the point's error and the rounding of the move itself (γ₂
-/// of each coordinate; pbrt-v4 §6.8.6 rounds each coordinate one float away instead, which
-/// costs branches). The true surface then lies behind the origin, so the ray cannot meet it
-/// again at its start, and no scene unit or position makes the offset large: it is a few
-/// ulps of the hit point's own coordinates. This keeps reflected rays outside and refracted
-/// rays inside a sphere, which the original project got wrong.
+/// `dir` goes to, past the box of the point's error (pbrt-v4 §6.8.6) and then γ₄ of its
+/// largest coordinate, which covers the rounding of the move and of a ray test started there
+/// (a point of the plane y = 0 is exact across it, and would otherwise leave from the plane
+/// itself, where Embree's test may find it again). The true surface then lies behind the
+/// origin, so the ray cannot meet it again at its start, and no scene unit or position makes
+/// the offset large: it is a few ulps of the hit point's own coordinates. This keeps reflected
+/// rays outside and refracted rays inside a sphere, which the original project got wrong.
 #[inline]
 pub fn offset_origin(p: Vec3, error: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
-    let d = ng.abs().dot(error + gamma(2) * p.abs());
+    let d = ng.abs().dot(error) + gamma(4) * p.abs().max_element();
     if dir.dot(ng) >= 0.0 {
         p + d * ng
     } else {

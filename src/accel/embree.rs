@@ -86,7 +86,7 @@ impl TriangleBvh {
         let mut ray_hit = RayHit::from(embree3::Ray::segment(
             ray.origin.to_array(),
             ray.dir.to_array(),
-            t_near(ray),
+            0.0,
             t_max,
         ));
         self.scene.intersect(&mut context, &mut ray_hit);
@@ -106,23 +106,10 @@ impl TriangleBvh {
             return false;
         }
         let mut context = IntersectContext::incoherent();
-        let mut shadow = embree3::Ray::segment(
-            ray.origin.to_array(),
-            ray.dir.to_array(),
-            t_near(ray),
-            t_max,
-        );
+        let mut shadow =
+            embree3::Ray::segment(ray.origin.to_array(), ray.dir.to_array(), 0.0, t_max);
         self.scene.occluded(&mut context, &mut shadow)
     }
-}
-
-/// Where Embree starts looking along `ray`: 32 ulps of the origin's coordinates. Our triangle
-/// test rejects hits closer than its own rounding (pbrt-v4's δt); Embree's has no such bound,
-/// and a ray leaving a surface whose points are exact across it (the plane y = 0) starts on
-/// that plane.
-#[inline]
-fn t_near(ray: &Ray) -> f32 {
-    crate::math::gamma(64) * ray.origin.abs().max_element()
 }
 
 #[cfg(test)]
