@@ -80,9 +80,9 @@ impl VcmMode {
     /// subpath still connects to one light subpath, and the weights count the light subpaths
     /// a pass really has (light tracing's and merging's N), so any number is unbiased.
     /// Fewer make a pass cheaper (its merges and light tracing): at equal time one per four
-    /// pixels measured 1.2–1.6× lower relMSE than one per pixel for `vcm` on every scene
-    /// tried (diffuse and glossy Cornell boxes, a door ajar, a lamp shade, a caustic seen in a
-    /// mirror), and one per eight lost again on the diffuse box. Light tracing has no other
+    /// pixels measured 1.2–1.6× lower relMSE than one per pixel for `vcm` on the diffuse and
+    /// glossy Cornell boxes, a door ajar and a lamp shade, and the same on a caustic seen in a
+    /// mirror; one per eight lost again on the diffuse box. Light tracing has no other
     /// samples, so it keeps one per pixel.
     pub fn pixels_per_light_subpath(self) -> u32 {
         match self {
