@@ -28,6 +28,15 @@ fn builder(name: &str) -> SceneBuilder {
     b
 }
 
+/// A scene builder with `engine` and one white Lambertian material, for the tests that place
+/// one shape and shoot rays at it.
+fn white_scene(name: &str, engine: RayEngine) -> (SceneBuilder, u32) {
+    let mut b = builder(name);
+    b.ray_engine(engine);
+    let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+    (b, m)
+}
+
 fn random_scene(seed: u64, n: usize, engine: RayEngine) -> Scene {
     let mut rng = Rng::keyed(seed, &[]);
     let mut b = builder("random");
@@ -181,9 +190,7 @@ fn offset_rays_leave_triangle_meshes_without_hitting_them() {
     // A closed, convex mesh (an octahedron far from the origin, where float spacing is coarse):
     // a ray offset outward from a face must miss the mesh; one offset inward must hit it.
     for engine in RayEngine::compiled() {
-        let mut b = builder("octahedron");
-        b.ray_engine(engine);
-        let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+        let (mut b, m) = white_scene("octahedron", engine);
         let c = Vec3::new(40.0, -25.0, 60.0);
         let r = 0.3;
         let v = common::OCTAHEDRON_VERTICES.map(|d| c + r * Vec3::from_array(d));
@@ -249,9 +256,7 @@ fn offset_rays_do_not_hit_their_own_surface() {
     // chord: never the surface it starts on, and not displaced by a visible offset.
     for (center, radius) in OFFSET_PLACES {
         for shape in ["sphere", "mesh"] {
-            let mut b = builder(shape);
-            b.ray_engine(RayEngine::Bvh);
-            let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+            let (mut b, m) = white_scene(shape, RayEngine::Bvh);
             if shape == "sphere" {
                 b.sphere(center, radius, m, None);
             } else {
@@ -313,9 +318,7 @@ fn rays_from_a_plane_through_the_origin_do_not_find_it_again() {
     // rounding (pbrt-v4's δt), and with Embree that share, must keep rays down to grazing
     // angles from finding the floor, or its other triangle, at a tiny distance.
     for engine in RayEngine::compiled() {
-        let mut b = builder("floor");
-        b.ray_engine(engine);
-        let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+        let (mut b, m) = white_scene("floor", engine);
         let corners = [
             Vec3::new(-3.7, 0.0, -2.9),
             Vec3::new(5.3, 0.0, -2.9),
@@ -433,9 +436,7 @@ fn no_ray_slips_between_triangles_sharing_an_edge_or_a_vertex() {
         glam::Quat::from_euler(glam::EulerRot::XYZ, 0.3, 1.1, -0.7),
         Vec3::new(13.3, -7.1, 2.9),
     );
-    let mut b = builder("closed mesh");
-    b.ray_engine(RayEngine::Bvh);
-    let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+    let (mut b, m) = white_scene("closed mesh", RayEngine::Bvh);
     b.mesh(&positions, &faces, to_world, m, None)
         .expect("valid mesh");
     let scene = b.build().expect("valid scene");
@@ -480,9 +481,7 @@ fn answers_scale_exactly_with_the_scene() {
         )
     };
     let build = |scale: f32| {
-        let mut b = builder("closed mesh");
-        b.ray_engine(RayEngine::Bvh);
-        let m = b.material(Material::Lambertian(Lambertian { albedo: Rgb::ONE }));
+        let (mut b, m) = white_scene("closed mesh", RayEngine::Bvh);
         b.mesh(&positions, &faces, place(scale), m, None)
             .expect("valid mesh");
         b.build().expect("valid scene")

@@ -6,7 +6,7 @@
 use super::{RayStats, ShadingPoint};
 use crate::light::LightSample;
 use crate::material::{Part, TransportMode};
-use crate::math::{Ray, Rgb, Vec3, offset_origin, segment_reach};
+use crate::math::{Ray, Rgb, Vec3, segment_reach};
 use crate::medium::MediumId;
 use crate::sampling::{Rng, Sampler};
 use crate::scene::{Hit, NO_LIGHT, Scene};
@@ -65,28 +65,15 @@ fn visibility(scene: &Scene, sp: &ShadingPoint, ls: &LightSample, rng: &mut impl
     let origin = hit.offset_origin(ls.wi);
     if scene.has_media() {
         let medium = scene.medium_after(hit, sp.medium, ls.wi);
-        return scene.transmittance(origin, light_end(ls, origin), medium, &sp.lambda, rng);
+        return scene.transmittance(origin, ls.end_seen_from(origin), medium, &sp.lambda, rng);
     }
     let free = if ls.is_delta {
         let dist = (ls.point - origin).length();
         !scene.occluded(origin, ls.wi, segment_reach(origin, ls.point, dist))
     } else {
-        let end = light_end(ls, origin);
-        let d = end - origin;
-        let dist = d.length();
-        dist > 0.0 && !scene.occluded(origin, d / dist, segment_reach(origin, end, dist))
+        scene.segment_is_clear(origin, ls.end_seen_from(origin))
     };
     if free { Rgb::ONE } else { Rgb::ZERO }
-}
-
-/// The far end of a shadow ray from `origin` to a light sample: the sampled point, moved off
-/// the light's surface toward `origin` (a point light has no surface to shadow itself with).
-fn light_end(ls: &LightSample, origin: Vec3) -> Vec3 {
-    if ls.is_delta {
-        ls.point
-    } else {
-        offset_origin(ls.point, ls.error, ls.normal, origin - ls.point)
-    }
 }
 
 /// A point where light scatters in a medium, seen from direction `wo`.
@@ -112,7 +99,7 @@ fn in_scattered(
         return (Rgb::ZERO, phase);
     }
     stats.shadow += 1;
-    let end = light_end(ls, mp.p);
+    let end = ls.end_seen_from(mp.p);
     let tr = scene.transmittance(mp.p, end, Some(mp.medium), &mp.lambda, rng);
     (tr * ls.radiance * (phase / ls.pdf), phase)
 }

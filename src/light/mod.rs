@@ -16,7 +16,7 @@ pub use environment::{EnvironmentLight, EnvironmentMap};
 pub use point::PointLight;
 pub use spot::SpotLight;
 
-use crate::math::{Rgb, Vec2, Vec3};
+use crate::math::{Rgb, Vec2, Vec3, offset_origin};
 use crate::spectrum::Lambda;
 
 /// A light sampled from a shading point.
@@ -37,6 +37,20 @@ pub struct LightSample {
     /// it has none).
     pub error: Vec3,
     pub is_delta: bool,
+}
+
+impl LightSample {
+    /// The far end of a shadow ray from `origin` to this sample: the sampled point, moved off
+    /// the light's surface toward `origin`. A point, spot, directional or environment light
+    /// has no surface to shadow itself with (its normal and error are zero), and its point
+    /// stays where it is.
+    pub fn end_seen_from(&self, origin: Vec3) -> Vec3 {
+        if self.is_delta {
+            self.point
+        } else {
+            offset_origin(self.point, self.error, self.normal, origin - self.point)
+        }
+    }
 }
 
 /// A photon leaving a light: where, which way, and the flux it carries (watts per channel)

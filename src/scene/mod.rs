@@ -211,6 +211,15 @@ impl Scene {
         })
     }
 
+    /// Whether nothing blocks the segment from `from` to `to` (up to
+    /// [`crate::math::segment_reach`]: its end may lie on a surface).
+    #[inline]
+    pub fn segment_is_clear(&self, from: Vec3, to: Vec3) -> bool {
+        let d = to - from;
+        let dist = d.length();
+        dist > 0.0 && !self.occluded(from, d / dist, crate::math::segment_reach(from, to, dist))
+    }
+
     /// Whether anything blocks the segment from `origin` along unit `dir` up to `dist`
     /// (surfaces' coverage as in [`Scene::intersect`]).
     #[inline]

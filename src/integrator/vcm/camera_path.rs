@@ -8,9 +8,8 @@ use super::{
     hero_tripled_once, mis, spectral_weight,
 };
 use crate::integrator::RayStats;
-use crate::light::Light;
 use crate::material::TransportMode;
-use crate::math::{Ray, Rgb, Vec3, offset_origin};
+use crate::math::{Ray, Rgb, Vec3};
 use crate::medium::spectral_mis;
 use crate::photon::grid::QueryScratch;
 use crate::sampling::Rng;
@@ -264,7 +263,7 @@ fn next_event(
         * (m.mis_vm + v.mis.vcm + v.mis.vc * mis(reverse));
     let weight = 1.0 / (w_light + 1.0 + w_camera);
     stats.shadow += 1;
-    let tr = light_transmittance(ctx, v, light, &ls, rng);
+    let tr = light_transmittance(ctx, v, &ls, rng);
     if tr == Rgb::ZERO {
         return Rgb::ZERO;
     }
@@ -277,16 +276,11 @@ fn next_event(
 fn light_transmittance(
     ctx: &PassContext,
     v: &CameraVertex,
-    light: &Light,
     ls: &crate::light::LightSample,
     rng: &mut Rng,
 ) -> Rgb {
     let (origin, medium) = v.site.leave(ctx.scene, ls.wi);
-    let end = if ls.is_delta || light.is_at_infinity() {
-        ls.point
-    } else {
-        offset_origin(ls.point, ls.error, ls.normal, origin - ls.point)
-    };
+    let end = ls.end_seen_from(origin);
     site::transmittance_to(ctx.scene, origin, medium, end, &ctx.lambda, rng)
 }
 

@@ -4,7 +4,7 @@
 //! [`Site`]; only the measure of a vertex differs: area on a surface, volume in a medium.
 
 use crate::material::{Material, TransportMode};
-use crate::math::{Frame, Ray, Rgb, Vec3, segment_reach};
+use crate::math::{Frame, Ray, Rgb, Vec3};
 use crate::medium::{HenyeyGreenstein, MediumId};
 use crate::sampling::Rng;
 use crate::scene::{Hit, Scene};
@@ -79,9 +79,7 @@ pub(super) fn transmittance_to(
     if scene.has_media() {
         return scene.transmittance(origin, target, medium, lambda, rng);
     }
-    let d = target - origin;
-    let dist = d.length();
-    if dist > 0.0 && !scene.occluded(origin, d / dist, segment_reach(origin, target, dist)) {
+    if scene.segment_is_clear(origin, target) {
         Rgb::ONE
     } else {
         Rgb::ZERO
