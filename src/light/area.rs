@@ -1,7 +1,7 @@
 use super::{LightSample, PhotonEmission};
 use crate::geometry::{Bounds, Shape, ShapeHit};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
-use crate::sampling::{Distribution1D, cosine_hemisphere};
+use crate::sampling::{AliasTable, cosine_hemisphere};
 use crate::spectrum::{Lambda, Spectrum};
 use crate::texture::{ImageTexture, UvMapping};
 use std::f32::consts::PI;
@@ -16,7 +16,8 @@ pub struct AreaLight {
     pub radiance: Spectrum,
     pub two_sided: bool,
     area: f32,
-    by_area: Distribution1D,
+    /// Picks a shape by area, in constant time for meshes of any size.
+    by_area: AliasTable,
     texture: Option<EmissionTexture>,
     bounds: Bounds,
 }
@@ -44,7 +45,7 @@ impl AreaLight {
     /// `None` if the shapes have no area.
     pub fn new(shapes: Vec<Shape>, radiance: Spectrum, two_sided: bool) -> Option<Self> {
         let areas: Vec<f64> = shapes.iter().map(|s| f64::from(s.area())).collect();
-        let by_area = Distribution1D::new(&areas)?;
+        let by_area = AliasTable::new(&areas)?;
         let bounds = shapes
             .iter()
             .fold(Bounds::EMPTY, |b, s| b.union(s.bounds()));

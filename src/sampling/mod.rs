@@ -1,10 +1,13 @@
-//! Sampling routines (each with its pdf) and a piecewise-constant 1-D distribution.
+//! Sampling routines (each with its pdf), a piecewise-constant 1-D distribution, and an alias
+//! table for picking among many items in constant time.
 //!
 //! Every warp maps uniform numbers in [0,1)² to a point or direction and has a matching `*_pdf`
 //! function; `tests/sampling_chi2.rs` checks each against its pdf with a chi-square test.
 
+mod alias;
 mod rng;
 
+pub use alias::AliasTable;
 pub use rng::{Rng, Sampler, mix64};
 
 pub mod halton;
@@ -89,7 +92,9 @@ pub fn uniform_triangle(u: Vec2) -> Vec3 {
 const LINEAR_SEARCH_MAX: usize = 8;
 
 /// A piecewise-constant distribution over `n` discrete items, sampled by inverting its CDF.
-/// Used to pick lights by power and triangles by area.
+/// Used where the map from `u` to items must be monotonic, so that stratified numbers stay
+/// stratified: the photons' choice of light, environment maps' rows and columns. Elsewhere
+/// [`AliasTable`] picks in constant time.
 #[derive(Clone, Debug)]
 pub struct Distribution1D {
     cdf: Vec<f64>,

@@ -7,7 +7,7 @@ use crate::light::{AreaLight, DirectionalLight, EnvironmentLight, Light, PointLi
 use crate::material::{Attenuation, Dispersion, Material};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::medium::{Boundary, Medium, MediumId};
-use crate::sampling::Distribution1D;
+use crate::sampling::AliasTable;
 use crate::spectrum::Spectrum;
 use crate::texture::{MappedTexture, Texture, UvMapping};
 use glam::Affine3A;
@@ -694,7 +694,7 @@ impl SceneBuilder {
             material_textures: self.material_textures,
             textures: self.textures,
             has_partial_coverage,
-            light_choice: Distribution1D::new(&powers),
+            light_choice: AliasTable::new(&powers),
             lights,
             camera,
             default_resolution: self.resolution,

@@ -32,7 +32,7 @@ use crate::hash::Fnv1a;
 use crate::light::{EnvironmentLight, Light};
 use crate::material::{Attenuation, Dispersion, Material, Pbr};
 use crate::math::{Frame, Ray, Rgb, Vec2, Vec3};
-use crate::sampling::Distribution1D;
+use crate::sampling::AliasTable;
 use crate::spectrum::Lambda;
 use crate::texture::{MappedTexture, Texture};
 
@@ -148,7 +148,8 @@ pub struct Scene {
     /// coverage at each candidate hit.
     has_partial_coverage: bool,
     lights: Vec<Light>,
-    light_choice: Option<Distribution1D>,
+    /// Picks a light by power, in constant time for any number of lights.
+    light_choice: Option<AliasTable>,
     /// The participating media, indexed by [`crate::medium::MediumId`].
     media: Vec<crate::medium::Medium>,
     /// The boundary each primitive is part of (the default, none, on the others); empty when
