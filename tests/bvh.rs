@@ -154,7 +154,8 @@ fn closest_hit_equals_brute_force_on_random_rays() {
 
 #[test]
 fn axis_aligned_rays_with_negative_zero_components_hit() {
-    // −z as written in code is (−0, −0, −1); obvhs once missed such rays entirely.
+    // −z as written in code is (−0, −0, −1): a node test that read the sign of −0 apart from
+    // its value would enter boxes by the wrong planes and miss such rays.
     for engine in RayEngine::compiled() {
         let scene = random_scene(5, 300, engine);
         let mut rng = Rng::keyed(6, &[]);
