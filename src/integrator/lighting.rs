@@ -333,6 +333,7 @@ pub(crate) fn escaped_radiance(
 }
 
 /// A sample of one light chosen by power, seen from `p`; its density includes the choice.
+#[inline]
 fn light_by_power(
     scene: &Scene,
     p: Vec3,

@@ -92,6 +92,7 @@ impl Light {
 
     /// Sample a direction toward the light from `p`; the radiance is at the channels of
     /// `lambda`.
+    #[inline]
     pub fn sample_li(&self, p: Vec3, u_pick: f32, u: Vec2, lambda: &Lambda) -> Option<LightSample> {
         match self {
             Light::Point(l) => l.sample_li(p, lambda),
