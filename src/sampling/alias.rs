@@ -6,6 +6,8 @@
 //! not monotonic, so stratified `u` do not stay stratified; it serves where `u` is independent
 //! per sample, as picking a triangle of an emitting mesh is.
 
+use super::Weights;
+
 /// One bin: the chance of keeping its own item, and the item it gives otherwise.
 #[derive(Clone, Copy, Debug)]
 struct Bin {
@@ -16,22 +18,19 @@ struct Bin {
 #[derive(Clone, Debug)]
 pub struct AliasTable {
     bins: Vec<Bin>,
-    weights: Vec<f64>,
-    total: f64,
+    weights: Weights,
 }
 
 impl AliasTable {
     /// Build from non-negative weights (negative ones count as zero). Returns `None` if there
     /// are none, they sum to zero, or there are more than `u32::MAX`.
     pub fn new(weights: &[f64]) -> Option<Self> {
-        let weights: Vec<f64> = weights.iter().map(|w| w.max(0.0)).collect();
-        let total: f64 = weights.iter().sum();
-        let n = weights.len();
-        if n == 0 || u32::try_from(n).is_err() || total <= 0.0 || !total.is_finite() {
-            return None;
-        }
+        let weights = Weights::new(weights)?;
+        let (values, total) = (&weights.values, weights.total);
+        let n = values.len();
+        u32::try_from(n).ok()?;
         // Each item's weight in units of a bin's share, 1/n of the total.
-        let mut scaled: Vec<f64> = weights.iter().map(|w| w / total * n as f64).collect();
+        let mut scaled: Vec<f64> = values.iter().map(|w| w / total * n as f64).collect();
         let (mut under, mut over): (Vec<u32>, Vec<u32>) =
             (0..n as u32).partition(|&i| scaled[i as usize] < 1.0);
         let mut bins: Vec<Bin> = (0..n as u32)
@@ -55,9 +54,9 @@ impl AliasTable {
         }
         // What is left on either list is 1 up to rounding and keeps its own bin (keep = 1),
         // except an item of zero weight, which gives its bin to any item that has weight.
-        if let Some(heavy) = weights.iter().position(|&w| w > 0.0) {
+        if let Some(heavy) = values.iter().position(|&w| w > 0.0) {
             for i in under {
-                if weights[i as usize] == 0.0 {
+                if values[i as usize] == 0.0 {
                     bins[i as usize] = Bin {
                         keep: 0.0,
                         alias: heavy as u32,
@@ -65,28 +64,17 @@ impl AliasTable {
                 }
             }
         }
-        Some(Self {
-            bins,
-            weights,
-            total,
-        })
+        Some(Self { bins, weights })
     }
 
-    pub fn len(&self) -> usize {
-        self.weights.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.weights.is_empty()
-    }
-
+    /// The sum of the weights.
     pub fn total(&self) -> f64 {
-        self.total
+        self.weights.total
     }
 
     /// Probability of item `i`.
     pub fn pmf(&self, i: usize) -> f32 {
-        (self.weights[i] / self.total) as f32
+        self.weights.pmf(i)
     }
 
     /// Pick an item with probability proportional to its weight; also returns `u` remapped to

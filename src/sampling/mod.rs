@@ -98,54 +98,68 @@ const LINEAR_SEARCH_MAX: usize = 8;
 #[derive(Clone, Debug)]
 pub struct Distribution1D {
     cdf: Vec<f64>,
-    weights: Vec<f64>,
+    weights: Weights,
+}
+
+/// A discrete distribution's weights (negative ones as zero) and their sum: what the chance of
+/// each item is, however it is sampled.
+#[derive(Clone, Debug)]
+struct Weights {
+    values: Vec<f64>,
     total: f64,
+}
+
+impl Weights {
+    /// `None` if there are no weights, or they do not sum to a positive finite number.
+    fn new(weights: &[f64]) -> Option<Self> {
+        let values: Vec<f64> = weights.iter().map(|w| w.max(0.0)).collect();
+        let total: f64 = values.iter().sum();
+        (!values.is_empty() && total > 0.0 && total.is_finite()).then_some(Self { values, total })
+    }
+
+    fn pmf(&self, i: usize) -> f32 {
+        (self.values[i] / self.total) as f32
+    }
 }
 
 impl Distribution1D {
     /// Build from non-negative weights. Returns `None` if there are none or they sum to zero.
     pub fn new(weights: &[f64]) -> Option<Self> {
-        let mut cdf = Vec::with_capacity(weights.len() + 1);
+        let weights = Weights::new(weights)?;
+        let mut cdf = Vec::with_capacity(weights.values.len() + 1);
         let mut acc = 0.0;
         cdf.push(0.0);
-        for &w in weights {
-            acc += w.max(0.0);
+        for &w in &weights.values {
+            acc += w;
             cdf.push(acc);
         }
-        if weights.is_empty() || acc <= 0.0 || !acc.is_finite() {
-            return None;
-        }
-        Some(Self {
-            cdf,
-            weights: weights.iter().map(|w| w.max(0.0)).collect(),
-            total: acc,
-        })
+        Some(Self { cdf, weights })
     }
 
     pub fn len(&self) -> usize {
-        self.weights.len()
+        self.weights.values.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.weights.is_empty()
+        self.weights.values.is_empty()
     }
 
     pub fn total(&self) -> f64 {
-        self.total
+        self.weights.total
     }
 
     /// Probability of item `i`.
     pub fn pmf(&self, i: usize) -> f32 {
-        (self.weights[i] / self.total) as f32
+        self.weights.pmf(i)
     }
 
     /// Pick an item with probability proportional to its weight; also returns `u` remapped to
     /// [0, 1) within the chosen item so it can be reused.
     pub fn sample(&self, u: f32) -> (usize, f32) {
-        let target = f64::from(u) * self.total;
+        let target = f64::from(u) * self.weights.total;
         // The first item whose cdf exceeds target (a linear scan over a few lights or
         // triangles, a binary search over more), skipping zero-weight items.
-        let n = self.weights.len();
+        let n = self.len();
         let i = if n <= LINEAR_SEARCH_MAX {
             self.cdf[1..]
                 .iter()
@@ -158,18 +172,18 @@ impl Distribution1D {
                 .min(n - 1)
         };
         let i = self.first_nonzero_from(i);
-        let w = self.weights[i];
+        let w = self.weights.values[i];
         let rest = ((target - self.cdf[i]) / w).clamp(0.0, 1.0 - f64::EPSILON) as f32;
         (i, rest.min(1.0 - f32::EPSILON))
     }
 
     fn first_nonzero_from(&self, i: usize) -> usize {
-        if self.weights[i] > 0.0 {
+        if self.weights.values[i] > 0.0 {
             return i;
         }
-        (i..self.weights.len())
+        (i..self.len())
             .chain((0..i).rev())
-            .find(|&j| self.weights[j] > 0.0)
+            .find(|&j| self.weights.values[j] > 0.0)
             .unwrap_or(i)
     }
 }
