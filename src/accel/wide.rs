@@ -1,7 +1,8 @@
 //! The four-wide BVH the traversal walks: a binary BVH collapsed so that each node holds four
 //! children's boxes in full precision, side by side for one SIMD slab test ([`node_test`]),
 //! as Embree's BVH4 does (Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray
-//! Tracing", 2014). A child is an inner node or a single primitive.
+//! Tracing", 2014). A child is an inner node or a leaf of up to [`MAX_LEAF`] primitives, which
+//! sit side by side in the order the tree gives the caller.
 //!
 //! [`node_test`]: super::node_test
 

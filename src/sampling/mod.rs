@@ -157,8 +157,8 @@ impl Distribution1D {
     /// [0, 1) within the chosen item so it can be reused.
     pub fn sample(&self, u: f32) -> (usize, f32) {
         let target = f64::from(u) * self.weights.total;
-        // The first item whose cdf exceeds target (a linear scan over a few lights or
-        // triangles, a binary search over more), skipping zero-weight items.
+        // The first item whose cdf exceeds target (a linear scan over a few items, a binary
+        // search over more), skipping zero-weight items.
         let n = self.len();
         let i = if n <= LINEAR_SEARCH_MAX {
             self.cdf[1..]
