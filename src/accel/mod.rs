@@ -10,7 +10,7 @@
 //! closure.
 
 use crate::geometry::Bounds;
-use crate::math::{Ray, Vec3};
+use crate::math::Ray;
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
@@ -73,8 +73,8 @@ const REINSERTION_BATCH_RATIO: f32 = 0.05;
 /// A built BVH. Primitive ids seen by the intersection closures are positions in
 /// [`Bvh::order`], so the caller stores its primitives in that order.
 pub struct Bvh {
+    /// `None` over no primitives.
     tree: Option<WideBvh>,
-    bounds: Bounds,
 }
 
 /// How far each primitive's box is grown, over the largest coordinate of the scene's bounds.
@@ -106,25 +106,13 @@ impl Bvh {
     /// BVH's primitive order holds input primitive `order[i]`.
     pub fn build(bounds: &[Bounds]) -> (Self, Vec<u32>) {
         if bounds.is_empty() {
-            let bvh = Self {
-                tree: None,
-                bounds: Bounds::EMPTY,
-            };
-            return (bvh, Vec::new());
+            return (Self { tree: None }, Vec::new());
         }
         let boxes = padded_boxes(bounds);
         let mut binary = binned_sah::build(&boxes, binned_sah::MEDIAN_DEPTH);
         ReinsertionOptimizer::default().run(&mut binary, REINSERTION_BATCH_RATIO, None);
         let (tree, order) = WideBvh::collapse(&binary);
-        let total = binary.nodes[0].aabb;
-        let bvh = Self {
-            tree: Some(tree),
-            bounds: Bounds {
-                min: Vec3::from(total.min),
-                max: Vec3::from(total.max),
-            },
-        };
-        (bvh, order)
+        (Self { tree: Some(tree) }, order)
     }
 
     /// Closest hit: `intersect(id, t_max)` returns the hit distance of primitive `id` below
@@ -151,21 +139,12 @@ impl Bvh {
         let r = NodeRay::new(Vec3A::from(ray.origin), Vec3A::from(ray.dir));
         tree.any_hit(&r, t_max, intersect)
     }
-
-    /// Number of nodes, for statistics.
-    pub fn node_count(&self) -> usize {
-        self.tree.as_ref().map_or(0, WideBvh::node_count)
-    }
-
-    /// Bounds of everything in the BVH.
-    pub fn bounds(&self) -> Bounds {
-        self.bounds
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Vec3;
 
     /// Boxes spread over 17 orders of magnitude, where each binned split peels off a few and
     /// the tree is as deep as the build allows: a ray down through each box's middle finds

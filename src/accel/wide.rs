@@ -116,10 +116,6 @@ impl WideBvh {
         (Self { nodes }, order)
     }
 
-    pub fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-
     /// Closest hit: `intersect(id, t_max)` returns the hit distance of primitive `id` below
     /// `t_max`, or infinity. Children are visited nearest first, and a pending child is
     /// dropped once a hit closer than its entry is found.
