@@ -99,7 +99,7 @@ impl std::str::FromStr for PixelFilter {
 
 impl PixelFilter {
     /// Film position of a sample for pixel (x, y) from a point `u` of the unit square (ideally
-    /// stratified across the pixel's samples, see [`stratified_2d`]).
+    /// stratified across the pixel's samples, see [`crate::sampling::PixelSampler`]).
     pub fn sample_position(&self, x: u32, y: u32, u: Vec2) -> Vec2 {
         let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
         match *self {
@@ -116,50 +116,10 @@ impl PixelFilter {
     }
 }
 
-/// Base-2 radical inverse (van der Corput) of `i`.
-fn radical_inverse_2(i: u32) -> f32 {
-    (i.reverse_bits() >> 8) as f32 * (1.0 / 16_777_216.0)
-}
-
-/// Point `i` of `n` stratified over the unit square: a jittered grid when `n` is a square,
-/// otherwise a jittered Hammersley set; `rotation` (per pixel) decorrelates neighbouring pixels
-/// (Cranley–Patterson), `jitter` places the point within its stratum.
-pub fn stratified_2d(i: u32, n: u32, rotation: Vec2, jitter: Vec2) -> Vec2 {
-    let side = (n as f32).sqrt() as u32;
-    let p = if side * side == n {
-        (Vec2::new((i % side) as f32, (i / side) as f32) + jitter) / side as f32
-    } else {
-        Vec2::new(
-            (i as f32 + jitter.x) / n as f32,
-            radical_inverse_2(i) + jitter.y / n as f32,
-        )
-    };
-    (p + rotation).fract()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::sampling::Rng;
-
-    #[test]
-    fn stratified_points_fill_every_stratum_once() {
-        let mut rng = Rng::keyed(1, &[]);
-        for n in [4u32, 16] {
-            let side = (n as f32).sqrt() as u32;
-            let mut seen = vec![0; n as usize];
-            for i in 0..n {
-                let p = stratified_2d(i, n, Vec2::ZERO, rng.next_2d());
-                let cell = (p.y * side as f32) as u32 * side + (p.x * side as f32) as u32;
-                seen[cell as usize] += 1;
-            }
-            assert!(seen.iter().all(|&c| c == 1), "{n}: {seen:?}");
-        }
-        for i in 0..7 {
-            let p = stratified_2d(i, 7, rng.next_2d(), rng.next_2d());
-            assert!((0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y));
-        }
-    }
 
     #[test]
     fn gaussian_filter_stays_within_three_sigma() {

@@ -11,10 +11,10 @@
 
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::film::{Image, PixelFilter, SampleSum, stratified_2d};
+use crate::film::{Image, PixelFilter, SampleSum};
 use crate::integrator::{Integrator, RayStats, Sample};
 use crate::math::Rgb;
-use crate::sampling::Rng;
+use crate::sampling::{PixelSampler, Rng, Sampler};
 use crate::scene::Scene;
 use crate::spectrum::Lambda;
 use rayon::prelude::*;
@@ -252,11 +252,11 @@ fn render_pixel(
     stats: &mut RayStats,
 ) -> PixelMean {
     let pixel = u64::from(y) * u64::from(s.width) + u64::from(x);
-    let rotation = Rng::keyed(s.seed, &[pixel, u64::MAX]).next_2d();
+    let key = Rng::keyed(s.seed, &[pixel]).next_u64();
     let mut mean = PixelMean::default();
     for i in range {
-        let mut rng = Rng::keyed(s.seed, &[pixel, u64::from(i)]);
-        let u = stratified_2d(i, s.spp, rotation, rng.next_2d());
+        let mut rng = PixelSampler::new(key, i);
+        let u = rng.next_2d();
         let ray = camera.ray(s.filter.sample_position(x, y, u));
         let mut lambda = Lambda::draw(s.spectral, &mut rng);
         let sample = integrator

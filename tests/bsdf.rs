@@ -7,8 +7,8 @@ mod common;
 
 use photon::material::microfacet::Ggx;
 use photon::material::{
-    Conductor, ConductorFresnel, Lambertian, Material, Metal, Part, Pbr, RoughDielectric,
-    TransportMode,
+    Conductor, ConductorFresnel, Dielectric, Lambertian, Material, Metal, Part, Pbr,
+    RoughDielectric, TransportMode,
 };
 use photon::math::{Rgb, Vec3};
 use photon::sampling::{Rng, uniform_sphere};
@@ -150,6 +150,65 @@ fn sample_agrees_with_eval_and_pdf() {
             }
         }
     }
+}
+
+/// A sample's `eta` is the relative index across the refraction it took (1 on reflection),
+/// and undoes the 1/eta² that radiance, and not importance, takes on crossing (Veach 1997,
+/// §5.2): the path tracer's Russian roulette relies on it.
+#[test]
+fn a_refracted_sample_reports_the_index_it_crossed() {
+    let mut rng = Rng::keyed(14, &[]);
+    let smooth = Material::Dielectric(Dielectric::new(1.5, Rgb::ONE));
+    let (mut entering, mut leaving) = (0, 0);
+    for m in [
+        rough_glass(0.1),
+        rough_glass(0.5),
+        smooth,
+        gold(0.2, 0.2),
+        pbr(0.7, 0.3, 0.5),
+    ] {
+        for _ in 0..5_000 {
+            let wo = uniform_sphere(rng.next_2d());
+            let wo = if m.is_two_sided() {
+                wo.with_z(wo.z.abs())
+            } else {
+                wo
+            };
+            let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
+            let Some(radiance) = m.sample(wo, u_lobe, u, TransportMode::Radiance) else {
+                continue;
+            };
+            let importance = m
+                .sample(wo, u_lobe, u, TransportMode::Importance)
+                .expect("the same numbers give a sample in either mode");
+            assert_eq!(radiance.wi, importance.wi);
+            let refracted = radiance.wi.z * wo.z < 0.0;
+            let expected = match (refracted, wo.z > 0.0) {
+                (false, _) => 1.0,
+                (true, true) => 1.5,
+                (true, false) => 1.0 / 1.5,
+            };
+            assert_eq!(radiance.eta, expected, "{m:?}: {wo} to {}", radiance.wi);
+            if refracted {
+                if wo.z > 0.0 {
+                    entering += 1;
+                } else {
+                    leaving += 1;
+                }
+                let undone = radiance.weight * (radiance.eta * radiance.eta);
+                assert!(
+                    (undone - importance.weight).abs().max_element()
+                        <= 1e-4 * importance.weight.max_element().max(1.0),
+                    "{m:?}: {undone} vs {}",
+                    importance.weight
+                );
+            }
+        }
+    }
+    assert!(
+        entering > 1000 && leaving > 1000,
+        "{entering} in, {leaving} out"
+    );
 }
 
 /// Reflection is symmetric; refraction obeys the adjoint relation of Veach (1997, §5.2): the

@@ -8,7 +8,7 @@ use super::{RayStats, Sample, ShadingPoint};
 use crate::material::Part;
 use crate::math::{Ray, Rgb, Vec3};
 use crate::medium::{MediumId, spectral_mis};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::{Hit, Interaction, Scene};
 use crate::spectrum::Lambda;
 
@@ -38,7 +38,7 @@ pub(super) fn radiance(
     scene: &Scene,
     ray: &Ray,
     lambda: &mut Lambda,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Sample {
     stats.camera += 1;
@@ -77,8 +77,8 @@ pub(super) fn radiance(
 /// What a camera sample carries down every branch: its random numbers, its ray counts, and
 /// the first diffuse surface met on the heaviest branch so far (weight, albedo, normal), for
 /// the albedo and normal AOVs.
-struct Walk<'a> {
-    rng: &'a mut Rng,
+struct Walk<'a, S: Sampler> {
+    rng: &'a mut S,
     stats: &'a mut RayStats,
     first_diffuse: Option<(f32, Rgb, Vec3)>,
     hero: usize,
@@ -98,7 +98,13 @@ struct Branch {
 
 /// The light along `ray`. In a medium, a distance is sampled: light scattered once toward
 /// the camera at that point (single scattering), or the surface beyond.
-fn trace(c: &DirectConfig, scene: &Scene, ray: &Ray, at: Branch, walk: &mut Walk) -> Rgb {
+fn trace(
+    c: &DirectConfig,
+    scene: &Scene,
+    ray: &Ray,
+    at: Branch,
+    walk: &mut Walk<impl Sampler>,
+) -> Rgb {
     let step = scene.next_interaction(ray, at.medium, (walk.hero, &at.lambda), &mut *walk.rng);
     walk.stats.bounce += u64::from(step.crossings);
     if step.weight == Rgb::ZERO {
@@ -144,7 +150,7 @@ fn surface(
     ray: &Ray,
     hit: &Hit,
     mut at: Branch,
-    walk: &mut Walk,
+    walk: &mut Walk<impl Sampler>,
 ) -> Rgb {
     let wo = -ray.dir;
     let mut l = scene.emitted(hit, wo, &at.lambda);
@@ -170,7 +176,7 @@ fn specular(
     scene: &Scene,
     sp: &ShadingPoint,
     at: Branch,
-    walk: &mut Walk,
+    walk: &mut Walk<impl Sampler>,
 ) -> Rgb {
     let leaving = smooth_branches(sp, Part::All, at.depth, c.split_depth, walk.rng);
     let mut l = Rgb::ZERO;

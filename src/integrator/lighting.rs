@@ -8,7 +8,7 @@ use crate::light::LightSample;
 use crate::material::{Part, TransportMode};
 use crate::math::{Ray, Rgb, Vec3, segment_reach};
 use crate::medium::MediumId;
-use crate::sampling::{Rng, Sampler};
+use crate::sampling::Sampler;
 use crate::scene::{Hit, NO_LIGHT, Scene};
 use crate::spectrum::Lambda;
 
@@ -340,9 +340,10 @@ fn light_by_power(
     lambda: &Lambda,
     rng: &mut impl Sampler,
 ) -> Option<LightSample> {
+    // The position on the light first: it is what stratified numbers help most.
+    let u = rng.next_2d();
     let u_choose = rng.next_f32();
     let u_pick = rng.next_f32();
-    let u = rng.next_2d();
     let (i, pmf, _) = scene.choose_light(u_choose)?;
     let mut ls = scene.lights()[i].sample_li(p, u_pick, u, lambda)?;
     ls.pdf *= pmf;
@@ -353,7 +354,7 @@ fn light_by_power(
 pub(crate) fn one_light_by_power(
     scene: &Scene,
     sp: &ShadingPoint,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
     let Some(ls) = light_by_power(scene, sp.hit.p, &sp.lambda, rng) else {

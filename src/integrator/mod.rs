@@ -19,7 +19,7 @@ pub use visible::{CameraPath, VisiblePoint, VolumePoint, trace_camera_path};
 
 use crate::material::Material;
 use crate::math::{Frame, Ray, Rgb, Vec3};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::{Hit, Scene};
 use crate::spectrum::Lambda;
 
@@ -123,7 +123,7 @@ impl Integrator {
         scene: &Scene,
         ray: &Ray,
         lambda: &mut Lambda,
-        rng: &mut Rng,
+        rng: &mut impl Sampler,
         stats: &mut RayStats,
     ) -> Sample {
         match self {

@@ -8,7 +8,7 @@ use super::{RayStats, Sample, ShadingPoint};
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3};
 use crate::medium::spectral_mis;
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::{Interaction, NO_LIGHT, Scene};
 use crate::spectrum::Lambda;
 
@@ -34,12 +34,15 @@ pub(super) fn radiance(
     scene: &Scene,
     camera_ray: &Ray,
     lambda: &mut Lambda,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Sample {
     let mut out = Sample::default();
     let mut l = Rgb::ZERO;
     let mut beta = Rgb::ONE;
+    // The product of eta² over the refractions so far, which undoes their 1/eta² in `beta`
+    // for Russian roulette: radiance compressed inside glass is no less likely to matter.
+    let mut eta_scale = 1.0f32;
     let mut ray = *camera_ray;
     let mut medium = scene.camera_medium();
     // Spectral MIS in media (see `crate::medium`): the hero channel distances are drawn
@@ -87,7 +90,7 @@ pub(super) fn radiance(
                 };
                 l += beta * one_light_in_medium(scene, &mp, rng, stats) * mis;
                 let s = scene.medium(m).phase().sample(mp.wo, rng.next_2d());
-                if !survives_roulette(c, depth, &mut beta, mis, rng) {
+                if !survives_roulette(c, depth, &mut beta, eta_scale * mis, rng) {
                     break;
                 }
                 prev_pdf = s.pdf;
@@ -128,7 +131,8 @@ pub(super) fn radiance(
             break;
         };
         beta *= s.weight;
-        if beta == Rgb::ZERO || !survives_roulette(c, depth, &mut beta, mis, rng) {
+        eta_scale *= s.eta * s.eta;
+        if beta == Rgb::ZERO || !survives_roulette(c, depth, &mut beta, eta_scale * mis, rng) {
             break;
         }
         let wi = sp.frame.to_world(s.wi);
@@ -142,14 +146,20 @@ pub(super) fn radiance(
     out
 }
 
-/// Russian roulette from `rr_depth` on, on the throughput `beta` times the path's spectral
-/// MIS factor `mis`: the path goes on with probability min(max, 0.95), its throughput divided
-/// by it.
-fn survives_roulette(c: &PathConfig, depth: u32, beta: &mut Rgb, mis: f32, rng: &mut Rng) -> bool {
+/// Russian roulette from `rr_depth` on, on the throughput `beta` times `scale` (the path's
+/// spectral MIS factor and the eta² of its refractions; pbrt-v4 §14.1.4): the path goes on
+/// with probability min(max, 0.95), its throughput divided by it.
+fn survives_roulette(
+    c: &PathConfig,
+    depth: u32,
+    beta: &mut Rgb,
+    scale: f32,
+    rng: &mut impl Sampler,
+) -> bool {
     if depth + 1 < c.rr_depth {
         return true;
     }
-    let q = (beta.max_element() * mis).min(0.95);
+    let q = (beta.max_element() * scale).min(0.95);
     if rng.next_f32() >= q {
         return false;
     }

@@ -31,7 +31,7 @@ use crate::photon::beam::VolumePhotonMap;
 use crate::photon::cache::estimate_apart_from_sites;
 use crate::photon::estimate::{self, GatherParams, Kernel, Selection};
 use crate::photon::{MapKind, PhotonMap, PhotonMaps};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::Lambda;
 use std::f32::consts::FRAC_1_PI;
@@ -199,7 +199,7 @@ impl PhotonIntegrator {
         scene: &Scene,
         ray: &Ray,
         lambda: &Lambda,
-        rng: &mut Rng,
+        rng: &mut impl Sampler,
         stats: &mut RayStats,
     ) -> Sample {
         stats.camera += 1;
@@ -221,7 +221,7 @@ impl PhotonIntegrator {
         scene: &Scene,
         ray: &Ray,
         at: Vertex,
-        rng: &mut Rng,
+        rng: &mut impl Sampler,
         stats: &mut RayStats,
     ) -> Sample {
         let light_samples = self.settings.light_samples;
@@ -261,7 +261,7 @@ impl PhotonIntegrator {
         ray: &Ray,
         hit: crate::scene::Hit,
         at: Vertex,
-        rng: &mut Rng,
+        rng: &mut impl Sampler,
         stats: &mut RayStats,
     ) -> Sample {
         let mut out = Sample::default();
@@ -336,7 +336,7 @@ impl PhotonIntegrator {
         scene: &Scene,
         sp: &ShadingPoint,
         at: Vertex,
-        rng: &mut Rng,
+        rng: &mut impl Sampler,
         stats: &mut RayStats,
         out: &mut Sample,
     ) {
@@ -402,12 +402,12 @@ impl PhotonIntegrator {
     /// Gather rays sent through glass found the bright spots behind it (a caustic's focus, a
     /// lit floor magnified by a glass sphere) with no density that aims at them: those were
     /// the speckles of `scenes/caustics.toml` on its dark wall and inside its sphere.
-    fn final_gather(
+    fn final_gather<S: Sampler>(
         &self,
         scene: &Scene,
         sp: &ShadingPoint,
         m_rgb: &crate::material::Material,
-        rng: &mut Rng,
+        rng: &mut S,
         stats: &mut RayStats,
     ) -> Rgb {
         let n = self.settings.gather_rays;
@@ -421,7 +421,7 @@ impl PhotonIntegrator {
         let (b_count, h_count) = (n_bsdf as f32, n_hot as f32);
         let m = &sp.material;
         let mut sum = Rgb::ZERO;
-        let mut trace = |wi: Vec3, rng: &mut Rng, stats: &mut RayStats| {
+        let mut trace = |wi: Vec3, rng: &mut S, stats: &mut RayStats| {
             let cos = wi.dot(sp.frame.n);
             if cos <= 0.0 {
                 return;
@@ -488,7 +488,7 @@ impl PhotonIntegrator {
         scene: &Scene,
         ray: &Ray,
         medium: Option<MediumId>,
-        rng: &mut Rng,
+        rng: &mut impl Sampler,
         stats: &mut RayStats,
     ) -> Rgb {
         stats.bounce += 1;

@@ -145,6 +145,7 @@ impl Conductor {
                 weight: self.fresnel.eval(wo.z),
                 pdf: 1.0,
                 lobe: Lobes::SPECULAR_REFLECTION,
+                eta: 1.0,
             });
         }
         let h = self.ggx.sample_visible(wo, u);
@@ -160,6 +161,7 @@ impl Conductor {
             weight,
             pdf,
             lobe: Lobes::GLOSSY_REFLECTION,
+            eta: 1.0,
         })
     }
 }

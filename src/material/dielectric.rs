@@ -86,12 +86,14 @@ impl Dielectric {
                 weight: t.weight / (1.0 - f),
                 pdf: 1.0 - f,
                 lobe: Lobes::SPECULAR_TRANSMISSION,
+                eta: if wo.z > 0.0 { self.ior } else { 1.0 / self.ior },
             }),
             _ => Some(BsdfSample {
                 wi: reflected.wi,
                 weight: self.segment,
                 pdf: f,
                 lobe: Lobes::SPECULAR_REFLECTION,
+                eta: 1.0,
             }),
         }
     }

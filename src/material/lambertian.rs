@@ -38,6 +38,7 @@ impl Lambertian {
             weight: self.albedo,
             pdf,
             lobe: Lobes::DIFFUSE_REFLECTION,
+            eta: 1.0,
         })
     }
 }

@@ -18,6 +18,7 @@ impl Mirror {
             weight: self.reflectance,
             pdf: 1.0,
             lobe: Lobes::SPECULAR_REFLECTION,
+            eta: 1.0,
         })
     }
 }

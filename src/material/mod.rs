@@ -191,6 +191,11 @@ pub struct BsdfSample {
     pub pdf: f32,
     /// The lobe `wi` came from.
     pub lobe: Lobes,
+    /// Relative index of refraction across the surface in the direction of travel (the index
+    /// on `wi`'s side over `wo`'s) when `wi` was refracted; 1 for reflection. Radiance
+    /// crossing it is scaled by 1/eta² (Veach 1997, §5.2), which Russian roulette undoes
+    /// (see [`crate::integrator`]'s path tracer).
+    pub eta: f32,
 }
 
 impl BsdfSample {

@@ -220,6 +220,7 @@ impl Pbr {
                 weight: self.fresnel(wo.z) / p_spec,
                 pdf: p_spec,
                 lobe: Lobes::SPECULAR_REFLECTION,
+                eta: 1.0,
             });
         }
         let (wi, lobe) = if specular {
@@ -243,6 +244,7 @@ impl Pbr {
             weight,
             pdf,
             lobe,
+            eta: 1.0,
         })
     }
 }

@@ -143,6 +143,11 @@ impl RoughDielectric {
             weight,
             pdf,
             lobe,
+            eta: match lobe {
+                Lobes::GLOSSY_TRANSMISSION if wo.z > 0.0 => self.ior,
+                Lobes::GLOSSY_TRANSMISSION => 1.0 / self.ior,
+                _ => 1.0,
+            },
         })
     }
 }

@@ -290,8 +290,9 @@ impl ProgressiveState {
             Pixels::Ppm(_) => &[],
         };
         let rays = camera_paths(&mut slots, width, &stopped, |x, y, stats| {
-            let (ray, mut rng) = camera_ray(&camera, &c, &jitter, pass, x, y);
+            let ray = camera_ray(&camera, &c, &jitter, x, y);
             let pixel = y * width + x;
+            let mut rng = Rng::keyed(c.seed, &[pass, pixel as u64, 0x9a55]);
             let mut sampler = Prefixed::new(jitter.light(pixel as u64), &mut rng);
             let path = trace_camera_path(
                 scene,
@@ -747,13 +748,11 @@ pub(super) fn camera_ray(
     camera: &Camera,
     c: &ProgressiveConfig,
     jitter: &PassJitter,
-    pass: u64,
     x: usize,
     y: usize,
-) -> (crate::math::Ray, Rng) {
+) -> crate::math::Ray {
     let pixel = (y * c.width as usize + x) as u64;
-    let rng = Rng::keyed(c.seed, &[pass, pixel, 0x9a55]);
     let u = Vec2::from_array(jitter.position(pixel));
     let pos = PixelFilter::Box.sample_position(x as u32, y as u32, u);
-    (camera.ray(pos), rng)
+    camera.ray(pos)
 }

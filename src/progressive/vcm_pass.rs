@@ -14,8 +14,8 @@ use crate::integrator::vcm::{
 };
 use crate::math::{Rgb, Vec2};
 use crate::photon::grid::QueryScratch;
-use crate::sampling::Rng;
 use crate::sampling::halton::PassJitter;
+use crate::sampling::{PixelSampler, Rng};
 use crate::scene::Scene;
 use crate::spectrum::{Lambda, Wavelengths};
 use rayon::prelude::*;
@@ -67,7 +67,12 @@ pub(super) fn run(
             }
             let mut scratch = QueryScratch::default();
             for (x, px) in row.iter_mut().enumerate() {
-                let (ray, mut rng) = camera_ray(&camera, c, &jitter, pass, x, y);
+                let ray = camera_ray(&camera, c, &jitter, x, y);
+                // The pixel's numbers over the passes are Sobol points, as a pixel's samples are
+                // in a render (see `PixelSampler`).
+                let pixel = (y * width + x) as u64;
+                let key = Rng::keyed(c.seed, &[pixel, 0x9a55]).next_u64();
+                let mut rng = PixelSampler::new(key, pass as u32);
                 let path = light.of((y * width + x) % ctx.light_paths as usize);
                 let merge = grid.as_ref();
                 *px = camera_sample(&ctx, ray, path, merge, &mut scratch, &mut rng, &mut stats);

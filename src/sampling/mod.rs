@@ -6,9 +6,11 @@
 
 mod alias;
 mod rng;
+mod sobol;
 
 pub use alias::AliasTable;
 pub use rng::{Rng, Sampler, mix64};
+pub use sobol::PixelSampler;
 
 pub mod halton;
 

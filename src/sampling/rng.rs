@@ -49,6 +49,10 @@ impl Rng {
         xorshifted.rotate_right(rot)
     }
 
+    pub fn next_u64(&mut self) -> u64 {
+        (u64::from(self.next_u32()) << 32) | u64::from(self.next_u32())
+    }
+
     /// Uniform in [0, 1), with 24 bits of resolution (every value exactly representable).
     pub fn next_f32(&mut self) -> f32 {
         (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)

@@ -361,7 +361,7 @@ render_settings! {
         group: SceneAndOutput, takes: Takes::SAMPLES,
         default: DefaultValue::Value(|_| d::FILTER.text()), note: "", check: anything,
     }
-    /// Samples per pixel (stratified).
+    /// Samples per pixel (Owen-scrambled Sobol points).
     spp: u32 {
         group: Sampling, takes: Takes::SAMPLES,
         default: DefaultValue::Value(|k| d::spp(k).to_string()), note: "", check: at_least_one,

@@ -8,7 +8,7 @@ use crate::math::{Ray, Rgb};
 use crate::medium::{MediumAt, MediumId, TransmittanceProfile};
 use crate::photon::Kernel;
 use crate::photon::beam::VolumePhotonMap;
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::{MAX_CROSSINGS, Scene};
 use crate::spectrum::Lambda;
 
@@ -24,7 +24,7 @@ impl PhotonIntegrator {
         ray: &Ray,
         mut medium: Option<MediumId>,
         lambda: &Lambda,
-        rng: &mut Rng,
+        rng: &mut impl Sampler,
         stats: &mut RayStats,
     ) -> Passage {
         let mut passage = Passage {

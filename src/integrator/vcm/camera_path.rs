@@ -12,7 +12,7 @@ use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3};
 use crate::medium::spectral_mis;
 use crate::photon::grid::QueryScratch;
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::{Interaction, NO_LIGHT};
 use crate::spectrum::Lambda;
 
@@ -40,7 +40,7 @@ pub fn camera_sample(
     light_path: &[LightVertex],
     merge: Option<&VertexGrid>,
     scratch: &mut QueryScratch,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
     let scene = ctx.scene;
@@ -198,7 +198,7 @@ impl Techniques<'_> {
         v: &CameraVertex,
         lambda: &Lambda,
         scratch: &mut QueryScratch,
-        rng: &mut Rng,
+        rng: &mut impl Sampler,
         stats: &mut RayStats,
     ) -> Rgb {
         let mut found = next_event(ctx, v, lambda, rng, stats);
@@ -220,7 +220,7 @@ fn next_event(
     ctx: &PassContext,
     v: &CameraVertex,
     lambda: &Lambda,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
     let scene = ctx.scene;
@@ -277,7 +277,7 @@ fn light_transmittance(
     ctx: &PassContext,
     v: &CameraVertex,
     ls: &crate::light::LightSample,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
 ) -> Rgb {
     let (origin, medium) = v.site.leave(ctx.scene, ls.wi);
     let end = ls.end_seen_from(origin);
@@ -290,7 +290,7 @@ fn connect(
     ctx: &PassContext,
     x: &CameraVertex,
     y: &LightVertex,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
     let d = y.site.p() - x.site.p();

@@ -8,7 +8,7 @@ use super::{
 use crate::integrator::RayStats;
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3, offset_origin};
-use crate::sampling::Rng;
+use crate::sampling::{PixelSampler, Rng, Sampler};
 use crate::scene::Interaction;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -56,7 +56,8 @@ pub fn trace_light_subpaths(
             }
             let range: Range<u32> = k * CHUNK..((k + 1) * CHUNK).min(n);
             for i in range {
-                let mut rng = Rng::keyed(seed, &[pass, u64::from(i), 0x119b7]);
+                let key = Rng::keyed(seed, &[u64::from(i), 0x119b7]).next_u64();
+                let mut rng = PixelSampler::new(key, pass as u32);
                 trace_one(ctx, &mut rng, &mut out);
                 out.ends.push(out.vertices.len() as u32);
             }
@@ -76,7 +77,7 @@ pub fn trace_light_subpaths(
 
 /// One light subpath: emitted from a light chosen by power, followed until Russian roulette
 /// or the depth limit ends it.
-fn trace_one(ctx: &PassContext, rng: &mut Rng, out: &mut LightSubpaths) {
+fn trace_one(ctx: &PassContext, rng: &mut impl Sampler, out: &mut LightSubpaths) {
     let scene = ctx.scene;
     let Some((index, pick, _)) = scene.choose_light(rng.next_f32()) else {
         return;
@@ -194,7 +195,7 @@ fn connect_to_camera(
     ctx: &PassContext,
     v: &LightVertex,
     scatterer: &Scatterer,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     out: &mut LightSubpaths,
 ) {
     let camera = ctx.camera;

@@ -49,7 +49,7 @@ use crate::material::{Material, TransportMode};
 use crate::math::{Rgb, Vec3};
 use crate::medium::MediumId;
 use crate::photon::grid::{Located, PhotonGrid, QueryScratch};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::Lambda;
 use site::{Scattered, Scatterer, Site};
@@ -237,7 +237,7 @@ fn continue_subpath(
     s: &Scatterer,
     q: f32,
     mode: TransportMode,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
     path_mis: &mut PathMis,
 ) -> Option<Scattered> {
     let sampled = s.sample(mode, rng)?;

@@ -6,7 +6,7 @@
 use crate::material::{Material, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3};
 use crate::medium::{HenyeyGreenstein, MediumId};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::{Hit, Scene};
 use crate::spectrum::Lambda;
 
@@ -55,7 +55,7 @@ pub(super) fn transmittance(
     from: &Site,
     to: &Site,
     lambda: &Lambda,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
 ) -> Rgb {
     let d = to.p() - from.p();
     let dist = d.length();
@@ -74,7 +74,7 @@ pub(super) fn transmittance_to(
     medium: Option<MediumId>,
     target: Vec3,
     lambda: &Lambda,
-    rng: &mut Rng,
+    rng: &mut impl Sampler,
 ) -> Rgb {
     if scene.has_media() {
         return scene.transmittance(origin, target, medium, lambda, rng);
@@ -191,7 +191,7 @@ impl Scatterer {
     }
 
     /// Sample the direction a subpath goes on in.
-    pub fn sample(&self, mode: TransportMode, rng: &mut Rng) -> Option<Scattered> {
+    pub fn sample(&self, mode: TransportMode, rng: &mut impl Sampler) -> Option<Scattered> {
         let u_lobe = rng.next_f32();
         let u = rng.next_2d();
         match self {
