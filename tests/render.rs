@@ -302,7 +302,8 @@ fn the_cornell_box_renders_the_same_at_a_millionth_of_its_size_and_far_out() {
 /// inside the last sphere would go on with probability 0.44, and pixels would vary twice as much.
 #[test]
 fn russian_roulette_does_not_cut_short_light_inside_glass() {
-    let toml = r#"
+    let mut toml = String::from(
+        r#"
 [camera]
 position = [0.0, 0.0, 3.0]
 look_at = [0.0, 0.0, 0.0]
@@ -314,35 +315,18 @@ type = "glass"
 ior = 1.5
 
 [[shapes]]
-type = "sphere"
-center = [0.0, 0.0, 0.0]
-radius = 0.4
-material = "glass"
-
-[[shapes]]
-type = "sphere"
-center = [0.0, 0.0, -1.0]
-radius = 0.4
-material = "glass"
-
-[[shapes]]
-type = "sphere"
-center = [0.0, 0.0, -2.0]
-radius = 0.4
-material = "glass"
-
-[[shapes]]
-type = "sphere"
-center = [0.0, 0.0, -3.0]
-radius = 0.4
-material = "glass"
-
-[[shapes]]
 type = "quad"
 vertices = [[-2.0, -2.0, -4.0], [2.0, -2.0, -4.0], [2.0, 2.0, -4.0], [-2.0, 2.0, -4.0]]
 emission = { radiance = 1.0, two_sided = true }
-"#;
-    let desc = toml_read::read_str(toml, Path::new("spheres.toml"), Path::new(".")).expect("reads");
+"#,
+    );
+    for z in [0.0, -1.0, -2.0, -3.0] {
+        toml += &format!(
+            "[[shapes]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, {z:.1}]\nradius = 0.4\nmaterial = \"glass\"\n"
+        );
+    }
+    let desc =
+        toml_read::read_str(&toml, Path::new("spheres.toml"), Path::new(".")).expect("reads");
     let scene = build(&desc).expect("builds");
     let image = render(
         &scene,
