@@ -9,8 +9,7 @@ use crate::math::{Rgb, Vec2, plane_tolerance};
 use crate::photon::estimate::{EXACT_NORMAL_ERROR, disc_distance2};
 use crate::photon::grid::{PhotonGrid, QueryScratch};
 use crate::photon::{PassPhoton, VolumePhoton, trace_indirect_photons};
-use crate::sampling::PixelSampler;
-use crate::sampling::halton::PassJitter;
+use crate::sampling::halton::{PassJitter, Prefixed};
 use crate::sampling::{Rng, mix64};
 use crate::scene::Scene;
 use crate::spectrum::{Lambda, Wavelengths};
@@ -293,8 +292,8 @@ impl ProgressiveState {
         let rays = camera_paths(&mut slots, width, &stopped, |x, y, stats| {
             let ray = camera_ray(&camera, &c, &jitter, x, y);
             let pixel = y * width + x;
-            let key = Rng::keyed(c.seed, &[pixel as u64, 0x9a55]).next_u64();
-            let mut sampler = PixelSampler::new(key, pass as u32);
+            let mut rng = Rng::keyed(c.seed, &[pass, pixel as u64, 0x9a55]);
+            let mut sampler = Prefixed::new(jitter.light(pixel as u64), &mut rng);
             let path = trace_camera_path(
                 scene,
                 &ray,

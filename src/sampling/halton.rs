@@ -5,7 +5,7 @@
 //! makes quasi-Monte Carlo photon emission less noisy (Keller 1996, "Quasi-Monte Carlo
 //! Radiosity"; Jensen 2001, §5.1).
 
-use super::Rng;
+use super::{Rng, Sampler};
 
 /// Largest f32 below 1: a shifted coordinate is kept in [0, 1).
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
@@ -64,16 +64,17 @@ fn radical_inverse_any(base: u64, mut i: u64) -> f64 {
     reversed
 }
 
-/// Where in its pixel a progressive pass's camera ray starts: point `pass` of the Halton
-/// sequence in bases 2 and 3, shifted modulo 1 by offsets of each pixel's own (Cranley &
-/// Patterson 1976), and the pass's wavelength (base 13). Each pass's numbers are uniform, so
-/// every pass stays an unbiased sample; over the passes a pixel's positions cover it evenly,
-/// where independent ones clump, and edges (the light's image in the glass sphere) converge
-/// faster. The rest of the camera path draws from a [`super::PixelSampler`] with the pass as
-/// its index.
+/// The quasi-random numbers of a progressive pass's camera paths: point `pass` of the Halton
+/// sequence, shifted modulo 1 by offsets of each pixel's own (Cranley & Patterson 1976) — where
+/// in its pixel the ray starts (bases 2 and 3), and the path's first three random numbers
+/// (bases 5, 7, 11; see [`PassJitter::light`]). Each pass's numbers are uniform, so every pass
+/// stays an unbiased sample; over the passes a pixel's numbers cover their range evenly,
+/// where independent ones clump. Edges (the light's image in the glass sphere) and soft
+/// shadows converge faster: the light sample's stratification alone cut `seed`'s relMSE at
+/// 10 s from 0.0026 to 0.0016, and `cornell`'s from 0.0012 to 0.00105.
 #[derive(Clone, Copy, Debug)]
 pub struct PassJitter {
-    point: [f32; 2],
+    point: [f32; 5],
     seed: u64,
     pass: u64,
 }
@@ -84,6 +85,9 @@ impl PassJitter {
             point: [
                 radical_inverse_base_2(pass) as f32,
                 radical_inverse_in::<3>(pass) as f32,
+                radical_inverse_in::<5>(pass) as f32,
+                radical_inverse_in::<7>(pass) as f32,
+                radical_inverse_in::<11>(pass) as f32,
             ],
             seed: super::mix64(seed ^ 0x0A55_1E7E_D5EE_D000),
             pass,
@@ -104,12 +108,57 @@ impl PassJitter {
         let shift = (super::mix64(self.seed ^ 0x1A3B_DA5E) >> 40) as f32 / 16_777_216.0;
         shifted(radical_inverse_in::<13>(self.pass) as f32, shift)
     }
+
+    /// The first three random numbers of the pixel's camera path in this pass: on a diffuse
+    /// surface its first light sample (which part of the light, and where on it), through
+    /// glass its first Fresnel choice. Bases 5, 7 and 11, shifted per pixel apart from the
+    /// position: with bases 2 and 3 again, the light sample would be a fixed translate of the
+    /// position in every pass, and `seed` converged 10% slower (relMSE at 10 s 0.0018 against
+    /// 0.0016).
+    pub fn light(&self, pixel: u64) -> [f32; 3] {
+        let bits = super::mix64(self.seed ^ pixel.wrapping_mul(0xD1B5_4A32_D192_ED03));
+        // Three 21-bit offsets.
+        let shift = [bits >> 43, (bits >> 22) & 0x1F_FFFF, bits & 0x1F_FFFF]
+            .map(|b| b as f32 / 2_097_152.0);
+        std::array::from_fn(|d| shifted(self.point[2 + d], shift[d]))
+    }
 }
 
 fn shifted(x: f32, shift: f32) -> f32 {
     let x = x + shift;
     let x = if x >= 1.0 { x - 1.0 } else { x };
     x.min(ONE_MINUS_EPSILON)
+}
+
+/// A [`Sampler`] whose first three numbers are given (quasi-random ones: see
+/// [`PassJitter::light`]) and the rest drawn from `rng`.
+pub struct Prefixed<'a> {
+    prefix: [f32; 3],
+    used: usize,
+    pub rng: &'a mut Rng,
+}
+
+impl<'a> Prefixed<'a> {
+    pub fn new(prefix: [f32; 3], rng: &'a mut Rng) -> Self {
+        Self {
+            prefix,
+            used: 0,
+            rng,
+        }
+    }
+}
+
+impl Sampler for Prefixed<'_> {
+    #[inline]
+    fn next_f32(&mut self) -> f32 {
+        match self.prefix.get(self.used) {
+            Some(&u) => {
+                self.used += 1;
+                u
+            }
+            None => self.rng.next_f32(),
+        }
+    }
 }
 
 /// A Halton sequence of six dimensions under one random shift.
@@ -222,6 +271,39 @@ mod tests {
         }
     }
 
+    /// The light dimensions are stratified too, each in its base.
+    #[test]
+    fn a_pixels_light_numbers_are_stratified() {
+        for pixel in [0, 9, 262_143] {
+            let mut cells = [vec![0u32; 25], vec![0u32; 49], vec![0u32; 11]];
+            for pass in 0..49 {
+                let u = PassJitter::new(2, pass).light(pixel);
+                assert!(u.iter().all(|x| (0.0..1.0).contains(x)), "{u:?}");
+                for (d, cells) in cells.iter_mut().enumerate() {
+                    let n = cells.len();
+                    if pass < n as u64 {
+                        cells[(u[d] * n as f32) as usize] += 1;
+                    }
+                }
+            }
+            for c in &cells {
+                assert!(c.iter().all(|&n| n == 1), "pixel {pixel}: {c:?}");
+            }
+        }
+    }
+
+    /// A prefixed sampler hands out its prefix, then its generator's numbers.
+    #[test]
+    fn prefixed_sampler_gives_its_prefix_first() {
+        let mut rng = Rng::keyed(4, &[]);
+        let mut expected = rng.clone();
+        let mut s = Prefixed::new([0.25, 0.5, 0.75], &mut rng);
+        assert_eq!(s.next_f32(), 0.25);
+        assert_eq!(s.next_2d(), glam::Vec2::new(0.5, 0.75));
+        assert_eq!(s.next_f32(), expected.next_f32());
+        assert_eq!(s.next_2d(), expected.next_2d());
+    }
+
     /// In any one pass the numbers are uniform over the pixels (so each pass is an unbiased
     /// sample): mean ½, variance 1/12, no two of them correlated.
     #[test]
@@ -230,9 +312,16 @@ mod tests {
             let jitter = PassJitter::new(3, pass);
             let n = 40_000;
             let (mut sx, mut sy, mut sxx, mut sxy) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+            let (mut light_sum, mut light_x) = ([0.0f64; 3], [0.0f64; 3]);
             for pixel in 0..n {
                 let [x, y] = jitter.position(pixel).map(f64::from);
                 (sx, sy, sxx, sxy) = (sx + x, sy + y, sxx + x * x, sxy + x * y);
+                let l = jitter.light(pixel).map(f64::from);
+                for (d, v) in l.into_iter().enumerate() {
+                    light_sum[d] += v;
+                    // Independent of the position.
+                    light_x[d] += v * x;
+                }
             }
             let n = n as f64;
             let (mx, my) = (sx / n, sy / n);
@@ -242,6 +331,14 @@ mod tests {
             );
             assert!((sxx / n - mx * mx - 1.0 / 12.0).abs() < 0.002);
             assert!((sxy / n - mx * my).abs() < 0.002, "x and y correlate");
+            for d in 0..3 {
+                let m = light_sum[d] / n;
+                assert!((m - 0.5).abs() < 0.006, "light {d}: mean {m}");
+                assert!(
+                    (light_x[d] / n - m * mx).abs() < 0.002,
+                    "light {d} follows x"
+                );
+            }
         }
     }
 

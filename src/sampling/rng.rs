@@ -71,8 +71,8 @@ impl Rng {
     }
 }
 
-/// A source of uniform random numbers in [0, 1): an [`Rng`], or a pixel's quasi-random
-/// samples ([`super::PixelSampler`]).
+/// A source of uniform random numbers in [0, 1): an [`Rng`], or one whose first numbers come
+/// from a low-discrepancy sequence ([`super::halton::Prefixed`]).
 pub trait Sampler {
     fn next_f32(&mut self) -> f32;
 
