@@ -93,10 +93,13 @@ fn samples_are_scaled_to_the_limit_keeping_their_colour() {
         assert!(c.max_element() <= f.max_element() * (1.0 + 1e-5));
         if below(f) {
             assert_eq!(c, f);
-            untouched += 1;
+            // Lit floor, not the black background that no scaling changes.
+            if f.max_element() > 0.0 {
+                untouched += 1;
+            }
         }
     }
-    assert!(untouched > 16, "{untouched} pixels dim enough to check");
+    assert!(untouched > 16, "{untouched} lit pixels dim enough to check");
 }
 
 #[test]

@@ -38,8 +38,8 @@ impl LightSubpaths {
     }
 }
 
-/// Trace the pass's light subpaths, subpath `i` with the random stream keyed by (seed, pass,
-/// i); `stopped()` is checked between chunks.
+/// Trace the pass's light subpaths, subpath `i` drawing from a [`PixelSampler`] keyed by
+/// (seed, i) with the pass as its index; `stopped()` is checked between chunks.
 pub fn trace_light_subpaths(
     ctx: &PassContext,
     seed: u64,
