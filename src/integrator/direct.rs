@@ -4,6 +4,7 @@
 
 use super::delta::smooth_branches;
 use super::lighting::{MediumPoint, direct_light, direct_light_in_medium};
+use super::medium_segment::MediumSegment;
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::Part;
 use crate::math::{Ray, Rgb, Vec3};
@@ -107,14 +108,28 @@ fn trace(
 ) -> Rgb {
     let step = scene.next_interaction(ray, at.medium, (walk.hero, &at.lambda), &mut *walk.rng);
     walk.stats.bounce += u64::from(step.crossings);
+    // Point lights' light scattered once along the segment, sampled by distance toward them
+    // (see `MediumSegment`); free flight's point lights below are weighed against it.
+    let segment = MediumSegment::new(
+        scene,
+        ray,
+        at.medium,
+        step.first_segment_end,
+        &at.lambda,
+        at.ratio,
+    );
+    let single = segment.as_ref().map_or(Rgb::ZERO, |s| {
+        s.single_scattering_from_each(scene, &at.lambda, &mut *walk.rng, walk.stats)
+            * spectral_mis(at.ratio)
+    });
     if step.weight == Rgb::ZERO {
-        return Rgb::ZERO;
+        return single;
     }
     let ratio = at.ratio * step.ratio;
     let (hit, medium) = match step.interaction {
         // Seen from the camera or along delta lobes: no light sample could have found it.
         Interaction::Escaped => {
-            return step.weight * scene.escaped(ray.dir, &at.lambda) * spectral_mis(ratio);
+            return single + step.weight * scene.escaped(ray.dir, &at.lambda) * spectral_mis(ratio);
         }
         Interaction::Scatter { p, medium } => {
             let mp = MediumPoint {
@@ -123,24 +138,29 @@ fn trace(
                 medium,
                 lambda: at.lambda,
             };
-            let l = direct_light_in_medium(c.light_samples, scene, &mp, walk.rng, walk.stats);
-            return step.weight * l * spectral_mis(ratio);
+            let along = segment
+                .as_ref()
+                .and_then(|s| s.reached_by_free_flight(&step, p));
+            let l =
+                direct_light_in_medium(c.light_samples, scene, &mp, along, walk.rng, walk.stats);
+            return single + step.weight * l * spectral_mis(ratio);
         }
         Interaction::Surface { hit, medium } => (hit, medium),
     };
-    step.weight
-        * surface(
-            c,
-            scene,
-            ray,
-            &hit,
-            Branch {
-                medium,
-                ratio,
-                ..at
-            },
-            walk,
-        )
+    single
+        + step.weight
+            * surface(
+                c,
+                scene,
+                ray,
+                &hit,
+                Branch {
+                    medium,
+                    ratio,
+                    ..at
+                },
+                walk,
+            )
 }
 
 /// Emission, direct light and the delta lobes at a surface `ray` reached.

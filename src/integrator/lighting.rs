@@ -3,6 +3,7 @@
 //! combine those samples with the BSDF's. Every integrator lights its points here; each
 //! passes what it needs (its light-sample count), and none names a kind of light.
 
+use super::medium_segment::MediumSegment;
 use super::{RayStats, ShadingPoint};
 use crate::light::LightSample;
 use crate::material::{Part, TransportMode};
@@ -107,29 +108,39 @@ fn in_scattered(
 /// One light, chosen by power, sampled once from a point in a medium; MIS-weighted against
 /// sampling the phase function for lights with an area (the path tracer's next-event
 /// estimation in media, Pharr et al. 2016 §15.3).
+///
+/// `sampled_along`: the segment the point was reached on by free flight, at distance t, if
+/// its point lights' light is also sampled by distance there ([`MediumSegment`]); a sample
+/// of a point or spot light is then weighted against that.
 pub(crate) fn one_light_in_medium(
     scene: &Scene,
     mp: &MediumPoint,
+    sampled_along: Option<(&MediumSegment, f32)>,
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
-    let Some(ls) = light_by_power(scene, mp.p, &mp.lambda, rng) else {
+    let Some((i, ls)) = light_by_power(scene, mp.p, &mp.lambda, rng) else {
         return Rgb::ZERO;
     };
     let (value, phase_pdf) = in_scattered(scene, mp, &ls, rng, stats);
-    if ls.is_delta {
-        value
-    } else {
-        value * power_heuristic(ls.pdf, phase_pdf)
+    if !ls.is_delta {
+        return value * power_heuristic(ls.pdf, phase_pdf);
+    }
+    match (sampled_along, scene.lights()[i].point_position()) {
+        (Some((segment, t)), Some(position)) => value * segment.free_flight_weight(position, t),
+        _ => value,
     }
 }
 
 /// Light arriving directly at a point in a medium from every light, `light_samples` samples
-/// for those with an area: single scattering, for the `direct` integrator.
+/// for those with an area: single scattering, for the `direct` integrator and the
+/// progressive methods' camera paths. `sampled_along` as for [`one_light_in_medium`], with
+/// [`MediumSegment::single_scattering_from_each`].
 pub(crate) fn direct_light_in_medium(
     light_samples: u32,
     scene: &Scene,
     mp: &MediumPoint,
+    sampled_along: Option<(&MediumSegment, f32)>,
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
@@ -147,7 +158,11 @@ pub(crate) fn direct_light_in_medium(
                 acc += in_scattered(scene, mp, &ls, rng, stats).0;
             }
         }
-        sum += acc / samples as f32;
+        let weight = match (sampled_along, light.point_position()) {
+            (Some((segment, t)), Some(position)) => segment.free_flight_weight(position, t),
+            _ => 1.0,
+        };
+        sum += acc * (weight / samples as f32);
     }
     sum
 }
@@ -332,14 +347,15 @@ pub(crate) fn escaped_radiance(
     env.radiance(dir, lambda) * w
 }
 
-/// A sample of one light chosen by power, seen from `p`; its density includes the choice.
+/// A sample of one light chosen by power, seen from `p`, and the light's index; the sample's
+/// density includes the choice.
 #[inline]
 fn light_by_power(
     scene: &Scene,
     p: Vec3,
     lambda: &Lambda,
     rng: &mut impl Sampler,
-) -> Option<LightSample> {
+) -> Option<(usize, LightSample)> {
     // The position on the light first: it is what stratified numbers help most.
     let u = rng.next_2d();
     let u_choose = rng.next_f32();
@@ -347,7 +363,7 @@ fn light_by_power(
     let (i, pmf, _) = scene.choose_light(u_choose)?;
     let mut ls = scene.lights()[i].sample_li(p, u_pick, u, lambda)?;
     ls.pdf *= pmf;
-    Some(ls)
+    Some((i, ls))
 }
 
 /// One light, chosen by power, sampled once; MIS-weighted against BSDF sampling for area lights.
@@ -357,7 +373,7 @@ pub(crate) fn one_light_by_power(
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
-    let Some(ls) = light_by_power(scene, sp.hit.p, &sp.lambda, rng) else {
+    let Some((_, ls)) = light_by_power(scene, sp.hit.p, &sp.lambda, rng) else {
         return Rgb::ZERO;
     };
     let Some((value, bsdf_pdf)) = light_sample_contribution(scene, sp, &ls, rng, stats) else {

@@ -7,6 +7,7 @@
 mod delta;
 mod direct;
 mod lighting;
+mod medium_segment;
 mod path;
 mod photon;
 pub mod vcm;

@@ -166,6 +166,15 @@ impl Light {
         matches!(self, Light::Directional(_) | Light::Environment(_))
     }
 
+    /// Where a light that shines from one point is: point and spot lights.
+    pub fn point_position(&self) -> Option<Vec3> {
+        match self {
+            Light::Point(l) => Some(l.position),
+            Light::Spot(l) => Some(l.position),
+            Light::Directional(_) | Light::Area(_) | Light::Environment(_) => None,
+        }
+    }
+
     pub fn is_delta(&self) -> bool {
         !matches!(self, Light::Area(_) | Light::Environment(_))
     }

@@ -5,10 +5,12 @@
 //! function; `tests/sampling_chi2.rs` checks each against its pdf with a chi-square test.
 
 mod alias;
+mod equiangular;
 mod rng;
 mod sobol;
 
 pub use alias::AliasTable;
+pub use equiangular::Equiangular;
 pub use rng::{Rng, Sampler, mix64};
 pub use sobol::PixelSampler;
 

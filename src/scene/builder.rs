@@ -695,6 +695,9 @@ impl SceneBuilder {
             textures: self.textures,
             has_partial_coverage,
             light_choice: AliasTable::new(&powers),
+            point_lights: (0..lights.len() as u32)
+                .filter(|&i| lights[i as usize].point_position().is_some())
+                .collect(),
             lights,
             camera,
             default_resolution: self.resolution,

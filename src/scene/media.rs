@@ -41,13 +41,16 @@ pub enum Interaction {
 /// over the density of the distance chosen, times σs at a scattering point (see
 /// [`Medium::sample_free_flight`]), and each channel's density of the distances chosen
 /// over the hero channel's, `ratio` (both exactly one in vacuum). `crossings` counts the
-/// boundaries crossed, each one more ray traced.
+/// boundaries crossed, each one more ray traced. `first_segment_end` is the distance to the
+/// first surface along the ray, invisible or not (infinite if none): where the medium the ray
+/// started in ends.
 #[derive(Clone, Copy, Debug)]
 pub struct Step {
     pub interaction: Interaction,
     pub weight: Rgb,
     pub ratio: Rgb,
     pub crossings: u32,
+    pub first_segment_end: f32,
 }
 
 impl Scene {
@@ -186,8 +189,12 @@ impl Scene {
         let mut weight = Rgb::ONE;
         let mut ratio = Rgb::ONE;
         let mut ray = *ray;
+        let mut first_segment_end = f32::INFINITY;
         for crossings in 0..=MAX_CROSSINGS {
             let hit = self.intersect(&ray, f32::INFINITY);
+            if crossings == 0 {
+                first_segment_end = hit.map_or(f32::INFINITY, |h| h.t);
+            }
             if let Some(id) = medium {
                 let m = self.medium(id).at(lambda);
                 let t_max = hit.map_or(f32::INFINITY, |h| h.t);
@@ -204,6 +211,7 @@ impl Scene {
                             weight,
                             ratio,
                             crossings,
+                            first_segment_end,
                         };
                     }
                 } else {
@@ -216,6 +224,7 @@ impl Scene {
                     weight,
                     ratio,
                     crossings,
+                    first_segment_end,
                 };
             };
             if !self.is_invisible(&hit) {
@@ -224,6 +233,7 @@ impl Scene {
                     weight,
                     ratio,
                     crossings,
+                    first_segment_end,
                 };
             }
             medium = self.medium_after(&hit, medium, ray.dir);
@@ -234,6 +244,7 @@ impl Scene {
             weight: Rgb::ZERO,
             ratio: Rgb::ONE,
             crossings: MAX_CROSSINGS,
+            first_segment_end,
         }
     }
 

@@ -150,6 +150,8 @@ pub struct Scene {
     lights: Vec<Light>,
     /// Picks a light by power, in constant time for any number of lights.
     light_choice: Option<AliasTable>,
+    /// The lights that shine from a point (point and spot lights), by index.
+    point_lights: Vec<u32>,
     /// The participating media, indexed by [`crate::medium::MediumId`].
     media: Vec<crate::medium::Medium>,
     /// The boundary each primitive is part of (the default, none, on the others); empty when
@@ -475,6 +477,11 @@ impl Scene {
         let d = self.light_choice.as_ref()?;
         let (i, rest) = d.sample(u);
         Some((i, d.pmf(i), rest))
+    }
+
+    /// The lights that shine from a point (point and spot lights), by index.
+    pub fn point_lights(&self) -> &[u32] {
+        &self.point_lights
     }
 
     /// Probability that [`Scene::choose_light`] picks light `i`.
