@@ -204,14 +204,32 @@ const FOG_SIGMA_S: [f64; 3] = [0.3, 0.6, 0.1];
 const FOG_G: f64 = 0.5;
 const LIGHT_INTENSITY: f64 = 10.0;
 
-/// A camera at the origin looking down −z through a narrow field (every pixel's ray within
-/// 0.1° of the axis), in an infinite coloured fog, with a point light at (0, h, −d).
-fn point_light_in_fog((h, d): (f64, f64), resolution: u32) -> photon::scene::Scene {
+/// Where the camera of [`point_light_in_fog`] stands.
+#[derive(Clone, Copy, Debug)]
+enum Camera {
+    /// At the origin, in fog filling the scene.
+    InFog,
+    /// Half a unit before the origin, in vacuum, looking into fog that fills a box beyond
+    /// z = 0 behind an invisible boundary: the light it sees is the same.
+    Outside,
+}
+
+/// A camera looking down −z through a narrow field (every pixel's ray within 0.005° of the
+/// axis) into coloured fog that starts at the origin, with a point light at (0, h, −d).
+fn point_light_in_fog((h, d): (f64, f64), camera: Camera, resolution: u32) -> photon::scene::Scene {
+    let (atmosphere, z, fog_box) = match camera {
+        Camera::InFog => ("medium = \"fog\"", 0.0, ""),
+        Camera::Outside => (
+            "",
+            0.5,
+            "[[shapes]]\ntype = \"box\"\nmin = [-50.0, -50.0, -100.0]\nmax = [50.0, 50.0, 0.0]\ninterior = \"fog\"",
+        ),
+    };
     scene(&format!(
         r#"
-medium = "fog"
+{atmosphere}
 [camera]
-position = [0.0, 0.0, 0.0]
+position = [0.0, 0.0, {z}]
 look_at = [0.0, 0.0, -1.0]
 fov = 0.01
 resolution = [{resolution}, {resolution}]
@@ -220,6 +238,8 @@ resolution = [{resolution}, {resolution}]
 sigma_a = {FOG_SIGMA_A:?}
 sigma_s = {FOG_SIGMA_S:?}
 g = {FOG_G}
+
+{fog_box}
 
 [[lights]]
 type = "point"
@@ -250,13 +270,19 @@ fn assert_single_scattering(integrator: &str, light: (f64, f64), mean: Rgb, tole
 /// `direct`, and `path` at one scattering vertex: their light samples at the points free
 /// flight finds and their samples of distances drawn toward the light (equiangular),
 /// weighted against each other, must sum to the integral, with the light far from the ray
-/// and close beside it.
+/// and close beside it, and with the camera in the fog and outside it.
 #[test]
 fn single_scattering_from_a_point_light_in_an_infinite_medium_matches_its_integral() {
     for integrator in ["direct", "path"] {
-        for (light, spp) in [((1.0, 0.0), 2048), ((0.05, 2.0), 16384)] {
-            let image = render_single_scattering(&point_light_in_fog(light, 2), integrator, spp);
+        for (light, camera, spp) in [
+            ((1.0, 0.0), Camera::InFog, 2048),
+            ((0.05, 2.0), Camera::InFog, 16384),
+            ((0.05, 2.0), Camera::Outside, 16384),
+        ] {
+            let scene = point_light_in_fog(light, camera, 2);
+            let image = render_single_scattering(&scene, integrator, spp);
             let mean = image.pixels.iter().sum::<Rgb>() / image.pixels.len() as f32;
+            eprintln!("camera {camera:?}:");
             assert_single_scattering(integrator, light, mean, 0.01);
         }
     }
@@ -268,16 +294,24 @@ fn single_scattering_from_a_point_light_in_an_infinite_medium_matches_its_integr
 /// light.
 #[test]
 fn a_point_light_beside_a_ray_in_fog_is_sampled_by_distance() {
-    for integrator in ["direct", "path"] {
-        let image = render_single_scattering(&point_light_in_fog((0.05, 2.0), 8), integrator, 64);
+    for (integrator, camera) in [
+        ("direct", Camera::InFog),
+        ("path", Camera::InFog),
+        ("path", Camera::Outside),
+    ] {
+        let scene = point_light_in_fog((0.05, 2.0), camera, 8);
+        let image = render_single_scattering(&scene, integrator, 64);
         let values: Vec<f32> = image.pixels.iter().map(|p| p.y).collect();
         let n = values.len() as f32;
         let mean = values.iter().sum::<f32>() / n;
         let sd = (values.iter().map(|v| (v - mean) * (v - mean)).sum::<f32>() / n).sqrt();
-        eprintln!("{integrator}: pixels' relative spread {}", sd / mean);
+        eprintln!(
+            "{integrator}, camera {camera:?}: pixels' relative spread {}",
+            sd / mean
+        );
         assert!(
             sd < 0.1 * mean,
-            "{integrator}: pixels spread {sd} about {mean}"
+            "{integrator}, camera {camera:?}: pixels spread {sd} about {mean}"
         );
     }
 }

@@ -4,7 +4,7 @@
 
 use super::delta::smooth_branches;
 use super::lighting::{MediumPoint, direct_light, direct_light_in_medium};
-use super::medium_segment::MediumSegment;
+use super::medium_segment::{LightsSampled, MediumSegment};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::Part;
 use crate::math::{Ray, Rgb, Vec3};
@@ -108,19 +108,18 @@ fn trace(
 ) -> Rgb {
     let step = scene.next_interaction(ray, at.medium, (walk.hero, &at.lambda), &mut *walk.rng);
     walk.stats.bounce += u64::from(step.crossings);
-    // Point lights' light scattered once along the segment, sampled by distance toward them
-    // (see `MediumSegment`); free flight's point lights below are weighed against it.
-    let segment = MediumSegment::new(
-        scene,
-        ray,
-        at.medium,
-        step.first_segment_end,
-        &at.lambda,
-        at.ratio,
-    );
+    // Point lights' light scattered once on the ray's first stretch through a medium, sampled
+    // by distance toward them (see `MediumSegment`); free flight's light samples below are
+    // weighed against it.
+    let segment = MediumSegment::new(scene, &step, &at.lambda, at.ratio);
     let single = segment.as_ref().map_or(Rgb::ZERO, |s| {
-        s.single_scattering_from_each(scene, &at.lambda, &mut *walk.rng, walk.stats)
-            * spectral_mis(at.ratio)
+        s.single_scattering(
+            scene,
+            LightsSampled::Each,
+            &at.lambda,
+            &mut *walk.rng,
+            walk.stats,
+        ) * spectral_mis(at.ratio)
     });
     if step.weight == Rgb::ZERO {
         return single;
@@ -138,11 +137,9 @@ fn trace(
                 medium,
                 lambda: at.lambda,
             };
-            let along = segment
-                .as_ref()
-                .and_then(|s| s.reached_by_free_flight(&step, p));
+            let reached = segment.as_ref().and_then(|s| s.free_flight_point(&step, p));
             let l =
-                direct_light_in_medium(c.light_samples, scene, &mp, along, walk.rng, walk.stats);
+                direct_light_in_medium(c.light_samples, scene, &mp, reached, walk.rng, walk.stats);
             return single + step.weight * l * spectral_mis(ratio);
         }
         Interaction::Surface { hit, medium } => (hit, medium),

@@ -3,7 +3,7 @@
 //! combine those samples with the BSDF's. Every integrator lights its points here; each
 //! passes what it needs (its light-sample count), and none names a kind of light.
 
-use super::medium_segment::MediumSegment;
+use super::medium_segment::FreeFlightPoint;
 use super::{RayStats, ShadingPoint};
 use crate::light::LightSample;
 use crate::material::{Part, TransportMode};
@@ -109,13 +109,13 @@ fn in_scattered(
 /// sampling the phase function for lights with an area (the path tracer's next-event
 /// estimation in media, Pharr et al. 2016 §15.3).
 ///
-/// `sampled_along`: the segment the point was reached on by free flight, at distance t, if
-/// its point lights' light is also sampled by distance there ([`MediumSegment`]); a sample
-/// of a point or spot light is then weighted against that.
+/// `reached`: the point as free flight found it on a stretch whose point lights' light is
+/// also sampled by distance ([`super::medium_segment::MediumSegment`]); a sample of a point or
+/// spot light is then weighted against that.
 pub(crate) fn one_light_in_medium(
     scene: &Scene,
     mp: &MediumPoint,
-    sampled_along: Option<(&MediumSegment, f32)>,
+    reached: Option<FreeFlightPoint>,
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
@@ -126,21 +126,18 @@ pub(crate) fn one_light_in_medium(
     if !ls.is_delta {
         return value * power_heuristic(ls.pdf, phase_pdf);
     }
-    match (sampled_along, scene.lights()[i].point_position()) {
-        (Some((segment, t)), Some(position)) => value * segment.free_flight_weight(position, t),
-        _ => value,
-    }
+    value * reached.map_or(1.0, |r| r.weight(&scene.lights()[i]))
 }
 
 /// Light arriving directly at a point in a medium from every light, `light_samples` samples
 /// for those with an area: single scattering, for the `direct` integrator and the
-/// progressive methods' camera paths. `sampled_along` as for [`one_light_in_medium`], with
-/// [`MediumSegment::single_scattering_from_each`].
+/// progressive methods' camera paths. `reached` as for [`one_light_in_medium`], with
+/// [`super::medium_segment::LightsSampled::Each`].
 pub(crate) fn direct_light_in_medium(
     light_samples: u32,
     scene: &Scene,
     mp: &MediumPoint,
-    sampled_along: Option<(&MediumSegment, f32)>,
+    reached: Option<FreeFlightPoint>,
     rng: &mut impl Sampler,
     stats: &mut RayStats,
 ) -> Rgb {
@@ -158,11 +155,8 @@ pub(crate) fn direct_light_in_medium(
                 acc += in_scattered(scene, mp, &ls, rng, stats).0;
             }
         }
-        let weight = match (sampled_along, light.point_position()) {
-            (Some((segment, t)), Some(position)) => segment.free_flight_weight(position, t),
-            _ => 1.0,
-        };
-        sum += acc * (weight / samples as f32);
+        let weight = reached.map_or(1.0, |r| r.weight(light));
+        sum += acc * weight / samples as f32;
     }
     sum
 }

@@ -4,7 +4,7 @@
 use super::lighting::{
     MediumPoint, light_pdf_for_hit, one_light_by_power, one_light_in_medium, power_heuristic,
 };
-use super::medium_segment::MediumSegment;
+use super::medium_segment::{LightsSampled, MediumSegment};
 use super::{RayStats, Sample, ShadingPoint};
 use crate::material::TransportMode;
 use crate::math::{Ray, Rgb, Vec3};
@@ -62,13 +62,12 @@ pub(super) fn radiance(
         }
         let step = scene.next_interaction(&ray, medium, (hero, lambda), rng);
         stats.bounce += u64::from(step.crossings);
-        // Point lights' light scattered along the segment in the medium the ray set out in,
+        // Point lights' light scattered once on the ray's first stretch through a medium,
         // sampled by distance toward them (see `MediumSegment`).
-        let segment =
-            MediumSegment::new(scene, &ray, medium, step.first_segment_end, lambda, ratio);
+        let segment = MediumSegment::new(scene, &step, lambda, ratio);
         if let Some(segment) = &segment {
             l += beta
-                * segment.single_scattering_by_power(scene, lambda, rng, stats)
+                * segment.single_scattering(scene, LightsSampled::OneByPower, lambda, rng, stats)
                 * spectral_mis(ratio);
         }
         beta *= step.weight;
@@ -98,10 +97,8 @@ pub(super) fn radiance(
                     medium: m,
                     lambda: *lambda,
                 };
-                let along = segment
-                    .as_ref()
-                    .and_then(|s| s.reached_by_free_flight(&step, p));
-                l += beta * one_light_in_medium(scene, &mp, along, rng, stats) * mis;
+                let reached = segment.as_ref().and_then(|s| s.free_flight_point(&step, p));
+                l += beta * one_light_in_medium(scene, &mp, reached, rng, stats) * mis;
                 let s = scene.medium(m).phase().sample(mp.wo, rng.next_2d());
                 if !survives_roulette(c, depth, &mut beta, eta_scale * mis, rng) {
                     break;

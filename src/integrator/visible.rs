@@ -5,7 +5,7 @@ use super::delta::{smooth_branches, stop_probability};
 use super::lighting::{
     MediumPoint, direct_light, direct_light_in_medium, emission_weight, escaped_radiance,
 };
-use super::medium_segment::MediumSegment;
+use super::medium_segment::{LightsSampled, MediumSegment};
 use super::{RayStats, ShadingPoint};
 use crate::material::{Material, Part, TransportMode};
 use crate::math::{Frame, Ray, Rgb, Vec3};
@@ -101,12 +101,12 @@ pub fn trace_camera_path<S: Sampler>(
     for depth in 0..=max_depth {
         let step = scene.next_interaction(&ray, medium, (hero, &lambda), rng);
         stats.bounce += u64::from(step.crossings);
-        // Point lights' light scattered once along the segment, sampled by distance toward
-        // them (see `MediumSegment`); free flight's point lights below are weighed against it.
-        let segment =
-            MediumSegment::new(scene, &ray, medium, step.first_segment_end, &lambda, ratio);
+        // Point lights' light scattered once on the ray's first stretch through a medium,
+        // sampled by distance toward them (see `MediumSegment`); free flight's light samples
+        // below are weighed against it.
+        let segment = MediumSegment::new(scene, &step, &lambda, ratio);
         if let Some(segment) = &segment {
-            let single = segment.single_scattering_from_each(scene, &lambda, rng, stats);
+            let single = segment.single_scattering(scene, LightsSampled::Each, &lambda, rng, stats);
             out.direct += beta * single * spectral_mis(ratio);
         }
         beta *= step.weight;
@@ -128,10 +128,8 @@ pub fn trace_camera_path<S: Sampler>(
                     lambda,
                 };
                 let beta = beta * mis;
-                let along = segment
-                    .as_ref()
-                    .and_then(|s| s.reached_by_free_flight(&step, p));
-                let direct = direct_light_in_medium(light_samples, scene, &mp, along, rng, stats);
+                let reached = segment.as_ref().and_then(|s| s.free_flight_point(&step, p));
+                let direct = direct_light_in_medium(light_samples, scene, &mp, reached, rng, stats);
                 out.direct += beta * direct;
                 out.volume = Some(VolumePoint {
                     p,

@@ -6,6 +6,9 @@
 
 use crate::math::Vec3;
 
+/// The largest f32 below π/2.
+const BELOW_HALF_PI: f32 = f32::from_bits(std::f32::consts::FRAC_PI_2.to_bits() - 1);
+
 /// The distribution of distances in [0, `t_max`] along a ray for one point.
 ///
 /// With `foot` the distance along the ray to the point's projection on it and `height` the
@@ -34,12 +37,9 @@ impl Equiangular {
         if !usable || !height.is_finite() {
             return None;
         }
+        // θ stays below π/2, whose f32 rounding lies above it (where tan turns negative).
         let theta_a = (-foot / height).atan();
-        let theta_b = if t_max.is_finite() {
-            ((t_max - foot) / height).atan()
-        } else {
-            std::f32::consts::FRAC_PI_2
-        };
+        let theta_b = ((t_max - foot) / height).atan().min(BELOW_HALF_PI);
         (theta_b > theta_a).then_some(Self {
             foot,
             height,

@@ -41,16 +41,28 @@ pub enum Interaction {
 /// over the density of the distance chosen, times σs at a scattering point (see
 /// [`Medium::sample_free_flight`]), and each channel's density of the distances chosen
 /// over the hero channel's, `ratio` (both exactly one in vacuum). `crossings` counts the
-/// boundaries crossed, each one more ray traced. `first_segment_end` is the distance to the
-/// first surface along the ray, invisible or not (infinite if none): where the medium the ray
-/// started in ends.
+/// boundaries crossed, each one more ray traced. `scattering_piece` is the first stretch of
+/// the ray through a medium that scatters, if it has one.
 #[derive(Clone, Copy, Debug)]
 pub struct Step {
     pub interaction: Interaction,
     pub weight: Rgb,
     pub ratio: Rgb,
     pub crossings: u32,
-    pub first_segment_end: f32,
+    pub scattering_piece: Option<ScatteringPiece>,
+}
+
+/// The first stretch of a ray through a medium that scatters, between two surfaces (visible
+/// or not): the ray from where it starts, the distance along it to where it ends (infinite if
+/// it leaves the scene), its medium, the boundaries crossed before it, and the transmittance
+/// of the media before it (which only absorb, or it would not be the first).
+#[derive(Clone, Copy, Debug)]
+pub struct ScatteringPiece {
+    pub ray: Ray,
+    pub t_max: f32,
+    pub medium: MediumId,
+    pub crossings: u32,
+    pub transmittance_before: Rgb,
 }
 
 impl Scene {
@@ -189,16 +201,20 @@ impl Scene {
         let mut weight = Rgb::ONE;
         let mut ratio = Rgb::ONE;
         let mut ray = *ray;
-        let mut first_segment_end = f32::INFINITY;
+        let mut scattering_piece = None;
         for crossings in 0..=MAX_CROSSINGS {
             let hit = self.intersect(&ray, f32::INFINITY);
-            if crossings == 0 {
-                first_segment_end = hit.map_or(f32::INFINITY, |h| h.t);
-            }
             if let Some(id) = medium {
                 let m = self.medium(id).at(lambda);
                 let t_max = hit.map_or(f32::INFINITY, |h| h.t);
                 if self.medium(id).scatters() {
+                    scattering_piece.get_or_insert(ScatteringPiece {
+                        ray,
+                        t_max,
+                        medium: id,
+                        crossings,
+                        transmittance_before: weight,
+                    });
                     let flight = m.sample_free_flight(&ray, t_max, hero, sampler);
                     weight *= flight.weight;
                     ratio *= flight.ratio;
@@ -211,7 +227,7 @@ impl Scene {
                             weight,
                             ratio,
                             crossings,
-                            first_segment_end,
+                            scattering_piece,
                         };
                     }
                 } else {
@@ -224,7 +240,7 @@ impl Scene {
                     weight,
                     ratio,
                     crossings,
-                    first_segment_end,
+                    scattering_piece,
                 };
             };
             if !self.is_invisible(&hit) {
@@ -233,7 +249,7 @@ impl Scene {
                     weight,
                     ratio,
                     crossings,
-                    first_segment_end,
+                    scattering_piece,
                 };
             }
             medium = self.medium_after(&hit, medium, ray.dir);
@@ -244,7 +260,7 @@ impl Scene {
             weight: Rgb::ZERO,
             ratio: Rgb::ONE,
             crossings: MAX_CROSSINGS,
-            first_segment_end,
+            scattering_piece,
         }
     }
 

@@ -8,7 +8,7 @@ mod media;
 mod rays;
 
 pub use builder::{Emission, SceneBuilder, TextureMaps};
-pub use media::{Interaction, MAX_CROSSINGS, Step};
+pub use media::{Interaction, MAX_CROSSINGS, ScatteringPiece, Step};
 
 /// An indexed triangle mesh in object space, as read from a file or built in code. `normals`,
 /// `uvs`, `second_uvs` and `tangents` are per vertex and may be empty (flat shading, the
