@@ -21,7 +21,7 @@ const BOUNDS: &[(&str, [f64; 4])] = &[
     // `path` samples distances toward the spot light too (equiangular sampling): 0.0025 here,
     // and 0.0020–0.0028 over four other seeds at 32² and 4096 spp. A fifth read 0.036: a
     // bounce that passed a millimetre from the light, whose in-scattered light grows as 1/h
-    // with that distance h. Free flight alone read 0.030 here.
+    // with that distance h. Free flight alone reads 0.030 here.
     ("fog-spot", [0.012, 0.006, 0.04, 0.04]),
     ("glass-caustics", [0.025, 0.045, 0.065, 0.06]),
     ("glossy-cornell", [0.0022, 0.018, 0.016, 0.015]),
