@@ -2,7 +2,7 @@
 //! with the shipped reference, the plot draws them (and a previous record, dashed), and bad
 //! input is a usage error.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon};
 use std::path::PathBuf;

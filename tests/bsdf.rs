@@ -3,7 +3,7 @@
 //! white furnace (energy ≤ 1, with the loss of single-scattering microfacets at high roughness
 //! stated).
 
-mod common;
+use crate::common;
 
 use photon::material::microfacet::Ggx;
 use photon::material::{

@@ -1,7 +1,7 @@
 //! The `photon` binary as a user runs it: tiny renders in a temporary folder, and bad input
 //! that must give a clear message and exit code 2, never a panic.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr};
 

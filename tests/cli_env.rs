@@ -1,7 +1,7 @@
 //! `--env FILE|R,G,B`, `--env-rotate` and `--env-intensity` from the command line: they add or
 //! replace a scene's sky, and bad values are located errors (exit code 2), never panics.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -1,7 +1,7 @@
 //! Progressive renders from the command line: resume, merge of partial renders, and a real
 //! interruption, each byte-identical to one uninterrupted run.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr};
 use std::process::Command;

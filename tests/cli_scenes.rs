@@ -2,7 +2,7 @@
 //! the built-in's image byte for byte; a file's [render] settings apply unless a flag
 //! overrides them; glTF files render and report what they could not map.
 
-mod common;
+use crate::common;
 
 use common::photon;
 use std::process::Output;

@@ -1,6 +1,6 @@
 //! `photon validate`: the table of the validation suite, from the command line.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon};
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! bombs here are headers alone (nothing is decoded, on old code either) or tiny images under
 //! a tiny budget set through `PHOTON_IMAGE_MEMORY` in a child process.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

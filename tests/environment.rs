@@ -2,7 +2,7 @@
 //! its photons carry, its sampling against its density (χ²), and a white furnace: a white
 //! diffuse sphere under a uniform sky of radiance 1 shows radiance 1 everywhere.
 
-mod common;
+use crate::common;
 
 use photon::description::{build::build, toml_read::read_str};
 use photon::integrator::{Integrator, PathConfig, PhotonIntegrator, PhotonSettings};

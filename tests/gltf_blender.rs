@@ -3,7 +3,7 @@
 //! glass as rough glass, textures and normal maps attached), a file without lights renders
 //! under the default sky with a warning, and the sun and the emissive quad light the others.
 
-mod common;
+use crate::common;
 
 use photon::description::gltf::DEFAULT_SKY_RADIANCE;
 use photon::description::{LightSpec, load_scene};

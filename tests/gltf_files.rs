@@ -2,7 +2,7 @@
 //! mirror, emitter, embedded texture with a texture transform) and the Blender-exported seed
 //! scene against the built-in one.
 
-mod common;
+use crate::common;
 
 use photon::description::build::build;
 use photon::description::gltf::{LUMENS_PER_WATT, import_scene};

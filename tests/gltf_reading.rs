@@ -4,7 +4,7 @@
 //! a camera, animations that are not read, refused indices of refraction, percent-encoded
 //! URIs, `KHR_materials_volume` attenuation.
 
-mod common;
+use crate::common;
 
 use photon::description::build::build;
 use photon::description::gltf::{import_scene, read_meshes};

@@ -1,7 +1,7 @@
 //! Hostile input and careless use (issue #13): each case was a panic, a hang or runaway
 //! memory; each is now a message and exit code 2 (or, for a closed pipe, a quiet exit).
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr, temp_dir};
 use std::process::{Command, Stdio};

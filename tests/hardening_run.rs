@@ -1,7 +1,7 @@
 //! Hardening, round two (issue #25): nothing lost on resume or interrupt, no input replaced by
 //! an output, no render of zero passes.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr, temp_dir};
 use photon::render_job::RenderJob;

@@ -3,7 +3,7 @@
 //! and script quotes what it names, every path stays inside the job folder, a part proves the
 //! job it belongs to, and a task has one writer at a time.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr, temp_dir};
 use std::path::{Path, PathBuf};

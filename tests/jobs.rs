@@ -2,9 +2,9 @@
 //! bytes of a single-machine render; idempotent workers, failures reported with the command
 //! that reruns them; GNU parallel locally; the Kubernetes manifest's structure. The Slurm
 //! test needs a running cluster (`.ci/slurm-up`) and is ignored otherwise:
-//! `cargo test --release --test jobs -- --ignored`.
+//! `cargo test --release --test integration jobs:: -- --ignored`.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr, temp_dir};
 use std::path::Path;

@@ -3,10 +3,10 @@
 //! are whole (the last complete pass, or the one before), and resuming to the end gives the
 //! bytes of an uninterrupted run.
 //!
-//! The normal suite sends three signals per integrator; `cargo test --release --test kill --
-//! --ignored` sends twenty-four.
+//! The normal suite sends three signals per integrator; `cargo test --release --test
+//! integration kill:: -- --ignored` sends twenty-four.
 
-mod common;
+use crate::common;
 
 use common::{photon, stderr, temp_dir};
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! integrator (not "the scene emits no light" for the photon methods and a silent render for
 //! the others).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 //! estimates at small k, the irradiance cache against brute force and against the exact
 //! irradiance, final gathering independent of k, and non-finite samples.
 
-mod common;
+use crate::common;
 
 use photon::compare::compare;
 use photon::description::build::build;

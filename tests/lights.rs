@@ -1,7 +1,7 @@
 //! Every light's reported power against a Monte Carlo integral of its emission, and light
 //! sampling against closed-form irradiance.
 
-mod common;
+use crate::common;
 
 use photon::description::builtin;
 use photon::geometry::{Disk, Shape, Triangle};

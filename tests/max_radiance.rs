@@ -2,7 +2,7 @@
 //! keeping its colour, for the integrators that render samples per pixel; the others refuse
 //! it. The same from the command line, a scene's `[render]` table and the library.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr, temp_dir};
 use photon::description::load_scene;

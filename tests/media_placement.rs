@@ -2,7 +2,7 @@
 //! file describes it, without the file saying so: closed forms of Beer–Lambert absorption on
 //! the first segment of camera and light paths, for every integrator.
 
-mod common;
+use crate::common;
 
 use common::media::{image_mean, scene};
 use photon::film::Image;

@@ -2,7 +2,7 @@
 //! against its density (χ², as Mitsuba tests its phase functions), its normalisation, and
 //! free-flight sampling against Beer–Lambert transmittance.
 
-mod common;
+use crate::common;
 
 use common::media::{
     assert_every_integrator_renders_alike_on_one_and_two_threads, furnace_toml, image_mean, scene,

@@ -1,7 +1,7 @@
 //! Heterogeneous media on voxel grids against closed forms: Beer–Lambert through a grid of
 //! known integral, a furnace filled with a lumpy cloud, determinism, and errors for bad grids.
 
-mod common;
+use crate::common;
 
 use common::media::{
     assert_every_integrator_renders_alike_on_one_and_two_threads, image_mean, render, scene_in,

@@ -1,7 +1,7 @@
 //! Mesh files: OBJ/MTL materials, PLY in all three encodings, unknown formats, and the load
 //! speed of a large mesh.
 
-mod common;
+use crate::common;
 
 use photon::description::build::build;
 use photon::description::load_mesh_file;
@@ -209,8 +209,8 @@ fn mesh_files_need_a_known_extension() {
     assert!(load_mesh_file(Path::new("/nonexistent/x.obj")).is_err());
 }
 
-/// Load speed of a large mesh, for the record (`cargo test --release --test mesh_files --
-/// --ignored --nocapture`): a 2-million-triangle bumpy sphere as binary PLY and as OBJ.
+/// Load speed of a large mesh, for the record (`cargo test --release --test integration
+/// large_mesh_load_speed -- --ignored --nocapture`): a 2-million-triangle bumpy sphere as binary PLY and as OBJ.
 #[test]
 #[ignore = "timing run, prints triangles per second"]
 fn large_mesh_load_speed() {

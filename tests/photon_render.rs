@@ -1,6 +1,6 @@
 //! Rendering with photon maps: kernels, the analytic sphere, AOVs, consistency, the reference.
 
-mod common;
+use crate::common;
 
 use photon::compare::compare;
 use photon::description::builtin;

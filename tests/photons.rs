@@ -1,6 +1,6 @@
 //! Photon emission, tracing, maps, files: the photon-map issue's required evidence.
 
-mod common;
+use crate::common;
 
 use common::{chi2, chi2_z};
 use photon::description::builtin;

@@ -1,6 +1,6 @@
 //! Progressive photon mapping: convergence on analytic and reference scenes, resume and merge.
 
-mod common;
+use crate::common;
 
 use photon::compare::{CORNELL_CAUSTIC_CROP, compare};
 use photon::description::builtin;

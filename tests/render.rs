@@ -1,7 +1,7 @@
 //! Whole renders: analytic scenes, the converged Cornell reference, determinism, and the
 //! same image whatever unit a scene is modelled in.
 
-mod common;
+use crate::common;
 
 use photon::compare::compare;
 use photon::description::build::build;

@@ -2,7 +2,7 @@
 //! `[render]` table, the image it returns is the CLI's, byte for byte, for every kind of
 //! integrator, and its settings take the flag > scene > default precedence.
 
-mod common;
+use crate::common;
 
 use common::{photon, stderr, temp_dir};
 use photon::description::load_scene;

@@ -1,6 +1,6 @@
 //! Every sampling routine against its pdf, by a chi-square test (as Mitsuba and pbrt do).
 
-mod common;
+use crate::common;
 
 use common::{chi2, chi2_z};
 use photon::math::{Vec2, Vec3};

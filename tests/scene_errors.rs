@@ -3,7 +3,7 @@
 //! are kept as snapshots in tests/snapshots/scene_errors/ (set UPDATE_SNAPSHOTS=1 to rewrite
 //! them after a deliberate change, and review the diff).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -2,7 +2,7 @@
 //! built-ins survive a round trip through TOML bit for bit; transforms, light power and
 //! textures mean what the documentation says.
 
-mod common;
+use crate::common;
 
 use photon::description::builtin::BUILTINS;
 use photon::description::{SceneDesc, build::build, toml_read::read_str, toml_write::to_toml};

@@ -2,7 +2,7 @@
 //! replaced, deleted, inserted, duplicated, truncated) must each load and build or fail with
 //! an error. Deterministic: the damage comes from a keyed RNG.
 
-mod common;
+use crate::common;
 
 use photon::description::build::build;
 use photon::description::load_mesh_file;

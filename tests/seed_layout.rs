@@ -1,7 +1,7 @@
 //! The `seed` scene frames the original project's scene as its final image did
 //! (tests/fixtures/shared/seed/final.png): same camera, walls, boxes and spheres in the same places.
 
-mod common;
+use crate::common;
 
 use photon::description::builtin;
 use photon::film::PixelFilter;

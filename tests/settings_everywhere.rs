@@ -3,7 +3,7 @@
 //! from it; what is written by hand elsewhere is checked against it here: the README's
 //! settings tables, the Python stubs and the Blender panel.
 //!
-//! `UPDATE_SNAPSHOTS=1 cargo test --test settings_everywhere` rewrites the README's tables.
+//! `UPDATE_SNAPSHOTS=1 cargo test --test integration settings_everywhere::` rewrites the README's tables.
 
 use photon::settings::{DefaultValue, SETTINGS, Setting, Takes};
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! white furnaces at every wavelength, and spectral rendering of RGB scenes against RGB
 //! rendering.
 
-mod common;
+use crate::common;
 
 use common::media::scene;
 

@@ -2,7 +2,7 @@
 //! reads what the renderer sends, decodes it as tev's protocol says (its `Ipc.cpp`: a u32
 //! length, a type byte, little-endian fields, zero-terminated strings), and rebuilds the image.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr};
 use std::io::Read;

@@ -542,3 +542,31 @@ fn both_crate_roots_forbid_unsafe_code() {
         );
     }
 }
+
+/// Cargo builds only the test targets `Cargo.toml` names (`autotests = false`), so a test file
+/// missing from `tests/main.rs` would never run.
+#[test]
+fn every_test_file_is_built() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let main = std::fs::read_to_string(root.join("tests/main.rs")).expect("tests/main.rs");
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).expect("Cargo.toml");
+    let mut unbuilt = Vec::new();
+    for entry in std::fs::read_dir(root.join("tests")).expect("reads tests/") {
+        let path = entry.expect("entry").path();
+        let Some(stem) = path.file_stem().and_then(|s| s.to_str()) else {
+            continue;
+        };
+        if path.extension().is_none_or(|e| e != "rs") || stem == "main" {
+            continue;
+        }
+        let a_module = main.lines().any(|l| l.trim() == format!("mod {stem};"));
+        let a_target = manifest.contains(&format!("path = \"tests/{stem}.rs\""));
+        if !a_module && !a_target {
+            unbuilt.push(format!("tests/{stem}.rs"));
+        }
+    }
+    assert!(
+        unbuilt.is_empty(),
+        "add these to tests/main.rs as `mod NAME;`: {unbuilt:?}"
+    );
+}

@@ -2,7 +2,7 @@
 //! closed forms where every technique takes part, the validation suite's references,
 //! determinism over threads, resume and merge, and the command line.
 
-mod common;
+use crate::common;
 
 use common::{assert_usage_error, photon, stderr};
 use photon::description::{build::build, builtin, toml_read::read_str};

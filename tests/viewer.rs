@@ -4,7 +4,7 @@
 //! to check what the server refuses. Without Chromium on the machine the browser tests say so
 //! and pass; CI installs it.
 
-mod common;
+use crate::common;
 
 use common::{photon, stderr};
 use std::collections::HashMap;

@@ -1,7 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(
     dead_code,
-    reason = "each test binary uses a different subset of these helpers"
+    reason = "the Embree build's `bvh` binary uses few of these helpers"
 )]
 
 use std::path::{Path, PathBuf};
@@ -41,12 +41,16 @@ pub fn shared_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/shared")
 }
 
-/// A fresh, empty directory for one test's files, under the system temp dir. The first call
-/// in a test process also removes the directories left by test processes that have ended.
+/// A fresh, empty directory for one test's files, under the system temp dir, its own even
+/// when two tests give the same name. The first call in a test process also removes the
+/// directories left by test processes that have ended.
 pub fn temp_dir(name: &str) -> PathBuf {
     static SWEEP: std::sync::Once = std::sync::Once::new();
+    static CALLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     SWEEP.call_once(remove_dead_processes_dirs);
-    let dir = std::env::temp_dir().join(format!("photon-test-{}-{name}", std::process::id()));
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir =
+        std::env::temp_dir().join(format!("photon-test-{}-{call}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create temp dir");
     dir
