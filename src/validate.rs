@@ -273,9 +273,21 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
         }
         Method::Sppm | Method::Ppm | Method::Vcm | Method::Bdpt | Method::LightTrace => {
             let progressive = ProgressiveMethod::from_name(method.name()).expect("a method");
-            let (passes, max_depth) = match progressive.vcm_mode() {
-                Some(_) => (budget.vcm_passes, 64),
-                None => (budget.passes, 16),
+            // The vcm family merges within the radius `photon render` gives it for the scene
+            // file's own resolution (the same in the scene at any budget's size); the suite's
+            // radius fraction is for the photon-mapping methods' gathers.
+            let (passes, max_depth, initial_radius) = match progressive.vcm_mode() {
+                Some(_) => {
+                    let (width, height) = scene.default_resolution;
+                    let radius = crate::progressive::default_vcm_radius(scene, width, height)
+                        .ok_or_else(|| Error::InvalidScene("degenerate camera".into()))?;
+                    (budget.vcm_passes, 64, Some(radius))
+                }
+                None => (
+                    budget.passes,
+                    16,
+                    Some(budget.radius_fraction * scene.view_diagonal()),
+                ),
             };
             let config = ProgressiveConfig {
                 method: progressive,
@@ -284,7 +296,7 @@ pub fn render_with(scene: &Scene, method: Method, budget: &Budget) -> Result<Ima
                 seed: 0,
                 alpha: 2.0 / 3.0,
                 photons_per_pass: budget.photons_per_pass,
-                initial_radius: Some(budget.radius_fraction * scene.view_diagonal()),
+                initial_radius,
                 max_depth,
                 light_samples: 1,
                 spectral: budget.spectral,

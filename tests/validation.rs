@@ -12,6 +12,7 @@ const BOUNDS: &[(&str, [f64; 4])] = &[
     ("absorbing-glass", [0.0018, 0.012, 0.03, 0.027]),
     ("absorbing-water", [0.0004, 0.005, 0.015, 0.015]),
     ("alpha-fence", [0.0026, 0.006, 0.033, 0.03]),
+    ("coloured-fog", [0.02, 0.01, 0.09, 0.1]),
     ("curved-ceiling", [0.0004, 0.005, 0.015, 0.015]),
     ("directional", [0.0002, 0.0035, 0.009, 0.01]),
     ("door-ajar", [0.003, 0.018, 0.09, 0.13]),
@@ -40,6 +41,24 @@ const BOUNDS: &[(&str, [f64; 4])] = &[
     ("spot-light", [0.0015, 0.017, 0.025, 0.021]),
     ("textured-mesh", [0.0004, 0.007, 0.018, 0.02]),
     ("thick-medium", [0.0002, 0.0045, 0.019, 0.019]),
+];
+
+/// Where a photon-mapping method's mean lies further from the reference than 2% at the quick
+/// budget, the bias measured (per channel, the largest), its cause, and the tolerance that
+/// keeps it from growing.
+///
+/// `coloured-fog` (dense blue fog, σs 1.6; the camera 2 cm from the front wall):
+/// - `sppm` and `ppm` read blue 4.4% dark (0.9% at the full budget, 64² and 256 passes). The
+///   suite's fixed radius makes volume balls 0.07 wide next to the camera, and a ball half
+///   behind the wall finds half the photons: blue's in-scattering comes mostly from its first
+///   mean free path (0.6). With the camera 0.6 from the wall the same renders read 0.3%. The
+///   command line's radius grows with the distance from the camera and spares that wall.
+/// - `photon` reads red 2.7% bright and blue 2.8% dark at both budgets: its beam estimate's
+///   bias in a medium whose colours scatter this differently.
+const KNOWN_BIASES: &[(&str, Method, f64)] = &[
+    ("coloured-fog", Method::Sppm, 0.055),
+    ("coloured-fog", Method::Ppm, 0.055),
+    ("coloured-fog", Method::Photon, 0.035),
 ];
 
 #[test]
@@ -89,7 +108,14 @@ fn check_suite(budget: Budget, bounds: &[(&str, [f64; 4])]) {
         for (method, bound) in Method::ALL.into_iter().zip(bounds) {
             let o = run(case, loaded, method, &budget).expect("renders");
             let c = &o.comparison;
-            let tolerance = if method == Method::Path { 0.01 } else { 0.02 };
+            let known = KNOWN_BIASES
+                .iter()
+                .find(|k| k.0 == case.name && k.1 == method && !budget.spectral);
+            let tolerance = match (method, known) {
+                (_, Some(k)) => k.2,
+                (Method::Path, None) => 0.01,
+                _ => 0.02,
+            };
             let ratios = [c.red.mean_ratio, c.green.mean_ratio, c.blue.mean_ratio];
             eprintln!(
                 "{:<16} {:<6} relMSE {:.5} (bound {bound}) mean ratios {:.4} {:.4} {:.4}",

@@ -126,6 +126,31 @@ fn a_closed_sphere_of_scattering_media_reads_one() {
     }
 }
 
+/// `flush-light`'s panel hangs 1 cm below the ceiling, and the camera sees its lower face.
+/// The ceiling above the panel faces the same way and is lit hundreds of times more, by the
+/// panel's top face: a merge at the lower face must not take the ceiling's light vertices,
+/// which lie in its radius but off its plane. At a radius of 5 cm `vcm` reads the reference's
+/// mean within 0.4% at this budget; taking the ceiling's vertices read 1.28×.
+#[test]
+fn merges_stay_on_their_own_surface() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("validation");
+    let cases = find_cases(&dir, false).expect("reads validation/");
+    let case = cases
+        .iter()
+        .find(|c| c.name == "flush-light")
+        .expect("scene");
+    let loaded = load_case(case, 32).expect("loads");
+    let image = render(&loaded.scene, &config(Method::Vcm, 32, Some(0.05)), 256);
+    let (got, want) = (image.mean(), loaded.reference.mean());
+    for c in 0..3 {
+        let ratio = got.to_array()[c] / want.to_array()[c];
+        assert!(
+            (ratio - 1.0).abs() < 0.02,
+            "channel {c}: mean ratio {ratio}"
+        );
+    }
+}
+
 /// The furnace of [`a_closed_sphere_of_scattering_media_reads_one`], seen from its centre
 /// with the cloud behind the camera.
 fn mist_furnace() -> Scene {
@@ -185,12 +210,12 @@ fn threads_resume_and_merge_give_the_same_bits() {
     assert_eq!(bits(&merged.image()), bits(&straight), "merge");
 }
 
-/// relMSE bounds of vcm at [`budget`] per validation scene without media (about twice what
-/// was measured).
+/// relMSE bounds of vcm at [`budget`] per validation scene (about twice what was measured).
 const VCM_BOUNDS: &[(&str, f64)] = &[
     ("absorbing-glass", 0.004),
     ("absorbing-water", 0.002),
     ("alpha-fence", 0.002),
+    ("coloured-fog", 0.008),
     ("curved-ceiling", 0.001),
     ("directional", 0.0008),
     ("door-ajar", 0.0025),
@@ -216,6 +241,12 @@ const VCM_BOUNDS: &[(&str, f64)] = &[
     ("textured-mesh", 0.0012),
     ("thick-medium", 0.0012),
 ];
+
+/// Scenes whose whole-image mean is noisier at [`budget`] than the 1% the test allows, and
+/// the tolerance taken there. `coloured-fog`: blue's mean from `bdpt` at 32² and 1024 passes
+/// reads 0.9907, 1.0005 and 0.9952 over seeds 0, 1 and 2, and 0.9982 at 4096 passes (a
+/// pass draws every pixel's distances for one channel, so pixels are not independent).
+const NOISY_MEANS: &[(&str, f64)] = &[("coloured-fog", 0.02)];
 
 /// The suite's budget for the vcm family: 32², 512 passes.
 fn budget() -> Budget {
@@ -298,11 +329,15 @@ fn check(
         ratios[1],
         ratios[2]
     );
-    let means_ok = ratios.iter().all(|r| (r - 1.0).abs() <= 0.01);
+    let tolerance = NOISY_MEANS
+        .iter()
+        .find(|n| n.0 == case.name)
+        .map_or(0.01, |n| n.1);
+    let means_ok = ratios.iter().all(|r| (r - 1.0).abs() <= tolerance);
     let error_ok = c.overall.rel_mse.is_finite() && c.overall.rel_mse <= bound;
     (!means_ok || !error_ok).then(|| {
         format!(
-            "{} {}: mean ratios {ratios:?} (±0.01), relMSE {} (bound {bound})",
+            "{} {}: mean ratios {ratios:?} (±{tolerance}), relMSE {} (bound {bound})",
             case.name,
             method.name(),
             c.overall.rel_mse

@@ -20,3 +20,4 @@ mod vcm_pass;
 pub use pixels::{Pixels, SppmPixel};
 
 pub use state::{Method, PassSeconds, PassStats, ProgressiveConfig, ProgressiveState};
+pub use vcm_pass::default_radius as default_vcm_radius;

@@ -119,6 +119,12 @@ fn hero_channel(scene: &Scene, seed: u64, pass: u64) -> usize {
     ((first as u64 + pass) % 3) as usize
 }
 
+/// The merging radius `vcm` takes by default for an image of `width` × `height` (see
+/// [`automatic_radius`]); `None` for a degenerate camera.
+pub fn default_radius(scene: &Scene, width: u32, height: u32) -> Option<f32> {
+    Camera::new(&scene.camera, width, height).map(|camera| automatic_radius(scene, &camera))
+}
+
 /// [`VCM_FOOTPRINT_PIXELS`] pixel footprints at the median distance of the surfaces seen
 /// through a 16×16 grid of the image (the whole scene's diagonal / 1000 where it sees
 /// nothing): a radius that depends on the scene and camera alone, so every pass, part and

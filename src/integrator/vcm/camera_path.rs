@@ -9,8 +9,9 @@ use super::{
 };
 use crate::integrator::RayStats;
 use crate::material::TransportMode;
-use crate::math::{Ray, Rgb, Vec3};
+use crate::math::{Ray, Rgb, Vec3, plane_tolerance};
 use crate::medium::spectral_mis;
+use crate::photon::estimate::{EXACT_NORMAL_ERROR, disc_distance2};
 use crate::photon::grid::QueryScratch;
 use crate::sampling::Sampler;
 use crate::scene::{Interaction, NO_LIGHT};
@@ -342,7 +343,9 @@ fn connect(
 }
 
 /// The merges at a camera vertex: Σ f · β over the light vertices within the radius on the
-/// same side of the same kind of surface (or in a medium, for a vertex in a medium), each
+/// same surface (the disc rule of the photon gathers, `photon::estimate::disc_distance2`: the
+/// normals agree and the vertex lies in the tangent plane, so that a ceiling 1 cm above a
+/// light's lower face lends it nothing) or in the same medium, for a vertex in a medium, each
 /// weighed against the other techniques, over the density estimate's η_VCM.
 fn merged(
     ctx: &PassContext,
@@ -356,13 +359,17 @@ fn merged(
         Site::Medium { medium, .. } => (Vec3::ZERO, Some(*medium)),
     };
     let m = ctx.merge_factors(&x.scatterer);
-    grid.for_each_near(x.site.p(), scratch, |y| {
+    let p = x.site.p();
+    let tolerance = plane_tolerance(p);
+    let r2 = grid.radius2();
+    grid.for_each_near(p, scratch, |y, d2| {
         if y.depth + x.depth > ctx.max_depth + 1 {
             return;
         }
         let same_kind = match medium {
             Some(id) => y.in_medium(id),
-            None => y.ng.dot(ng) > 0.0,
+            None => disc_distance2(y.position - p, d2, ng, y.ng, tolerance, EXACT_NORMAL_ERROR)
+                .is_some_and(|m2| m2 <= r2),
         };
         if !same_kind {
             return;

@@ -411,15 +411,21 @@ impl VertexGrid {
         }
     }
 
-    /// Calls `visit` with every vertex within the radius of `p`, in a fixed order.
+    /// Calls `visit` with every vertex within the radius of `p` and its distance², in a fixed
+    /// order.
     fn for_each_near(
         &self,
         p: Vec3,
         scratch: &mut QueryScratch,
-        mut visit: impl FnMut(&MergeVertex),
+        mut visit: impl FnMut(&MergeVertex, f32),
     ) {
         self.grid
-            .for_each_within(p, self.radius, scratch, &mut |v, _| visit(v));
+            .for_each_within(p, self.radius, scratch, &mut |v, d2| visit(v, d2));
+    }
+
+    /// The radius² merges are made within.
+    fn radius2(&self) -> f32 {
+        self.radius * self.radius
     }
 }
 
