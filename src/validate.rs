@@ -79,7 +79,8 @@ pub struct Budget {
     /// Passes of the vcm family (a camera path per pixel each, and a light path per four pixels,
     /// or per pixel for `lighttrace`).
     pub vcm_passes: u32,
-    /// Initial radius of the progressive methods as a fraction of the scene's diagonal. The
+    /// Initial radius of `sppm` and `ppm` as a fraction of the scene's diagonal (the vcm family
+    /// merges within its own default for the scene file's resolution). The
     /// command line's default (4 or 6 pixel footprints) is made for full-size images: at 32² it is
     /// a fifth of a room, and its bias takes thousands of passes to fade.
     pub radius_fraction: f32,
